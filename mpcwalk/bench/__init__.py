@@ -1,0 +1,1 @@
+"""Benchmarks: generator tick times, solver comparisons."""

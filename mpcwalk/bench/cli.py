@@ -1,0 +1,53 @@
+"""``mpcwalk bench ...`` sub-commands."""
+
+import json
+from pathlib import Path
+
+
+def _run_ticks(args) -> int:
+    from ..footsteps.velocity_planner import VelocityCommand
+    from .ticks import format_table, machine_description, results_as_dicts, run_tick_benchmark
+
+    results = run_tick_benchmark(
+        nb_steps=args.steps,
+        command=VelocityCommand(args.vx, args.vy, args.vyaw),
+        control_period=args.control_period,
+        solvers=args.solvers.split(",") if args.solvers else None,
+        include_peer=not args.no_peer,
+        progress=not args.no_progress,
+    )
+    table = format_table(results)
+    header = (
+        f"Per-tick time of each pattern generator, {args.steps}-step walk at "
+        f"v=({args.vx}, {args.vy}, {args.vyaw}), control period {args.control_period} s, "
+        f"MPC horizon 1.6 s at 0.1 s. Machine: {machine_description()}.\n"
+        f"Command: `mpcwalk bench ticks --out {args.out}`\n"
+    )
+    print(header)
+    print(table)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "ticks.json").write_text(json.dumps(results_as_dicts(results), indent=2) + "\n")
+    (out / "ticks.md").write_text(header + "\n" + table + "\n")
+    print(f"\nwrote {out / 'ticks.json'} and {out / 'ticks.md'}")
+    return 0
+
+
+def add_bench_parser(sub) -> None:
+    """Add ``bench`` and its sub-commands to the top-level parser."""
+    bench = sub.add_parser("bench", help="benchmarks (generator tick times, ...)")
+    bsub = bench.add_subparsers(dest="bench_command", required=True)
+    ticks = bsub.add_parser(
+        "ticks",
+        help="per-tick time of every generator and MPC back-end on one walk, with the qpmpc peer",
+    )
+    ticks.add_argument("--steps", type=int, default=20)
+    ticks.add_argument("--vx", type=float, default=0.1)
+    ticks.add_argument("--vy", type=float, default=0.0)
+    ticks.add_argument("--vyaw", type=float, default=0.35)
+    ticks.add_argument("--control-period", type=float, default=0.01)
+    ticks.add_argument("--solvers", default=None, help="comma-separated qpsolvers back-ends for the MPC")
+    ticks.add_argument("--no-peer", action="store_true", help="skip the qpmpc peer")
+    ticks.add_argument("--no-progress", action="store_true")
+    ticks.add_argument("--out", type=Path, default=Path("results/ticks"))
+    ticks.set_defaults(bench_func=_run_ticks)

@@ -1,0 +1,155 @@
+"""Per-tick time of every pattern generator on the same 20-step LIPM walk.
+
+Each case runs :func:`mpcwalk.generators.rollout` over the same schedule and
+records the wall time of every ``step()`` call (update + solve for the QP
+generators). Ratios are taken against the closed-form generator measured in
+the same run.
+"""
+
+import platform
+from dataclasses import asdict, dataclass
+from typing import Dict, List, Optional, Sequence
+
+import numpy as np
+
+from ..footsteps.footstep import FootGeometry, StepTiming
+from ..footsteps.velocity_planner import VelocityCommand, VelocityPlanner, LegLimits
+from ..gait.contact_schedule import ContactSchedule
+from ..generators import make_generator, rollout
+from ..generators.pattern_generator import PatternGenerator
+from ..metrics import support_margins
+from ..models.lipm import LIPM
+
+#: MPC back-ends timed by default (when installed), besides osqp-direct and casadi.
+DEFAULT_QPSOLVERS = ("daqp", "proxqp", "quadprog", "osqp", "clarabel", "piqp", "highs", "qpalm")
+
+
+@dataclass(frozen=True)
+class TickCase:
+    """Result of one generator configuration.
+
+    Attributes:
+        label: Row name.
+        generator: Generator name.
+        solver: QP back-end, or "" for closed forms.
+        nb_ticks: Number of timed ticks.
+        median_us: Median tick, in [us].
+        p99_us: 99th percentile tick, in [us].
+        ratio_to_analytic: median / median of the closed form, same run.
+        zmp_margin_min_m: Smallest planned ZMP margin, in [m].
+        failures: Ticks whose QP failed.
+    """
+
+    label: str
+    generator: str
+    solver: str
+    nb_ticks: int
+    median_us: float
+    p99_us: float
+    ratio_to_analytic: float
+    zmp_margin_min_m: float
+    failures: int
+
+
+def _cases(solvers: Optional[Sequence[str]], include_peer: bool):
+    from qpsolvers import available_solvers
+
+    cases = [
+        ("analytic", "analytic", "", {}),
+        ("static", "static", "", {}),
+        ("preview", "preview", "", {}),
+        ("mpc osqp-direct", "mpc", "osqp-direct", {"solver": "osqp-direct"}),
+        ("mpc casadi", "mpc", "casadi", {"solver": "casadi"}),
+    ]
+    wanted = DEFAULT_QPSOLVERS if solvers is None else solvers
+    for name in wanted:
+        if name in available_solvers:
+            cases.append((f"mpc {name}", "mpc", name, {"solver": name}))
+    cases.append(("static-qp osqp-direct", "static-qp", "osqp-direct", {"solver": "osqp-direct"}))
+    if include_peer:
+        cases.append(("qpmpc osqp (peer)", "qpmpc", "osqp", {"solver": "osqp"}))
+        if "daqp" in available_solvers:
+            cases.append(("qpmpc daqp (peer)", "qpmpc", "daqp", {"solver": "daqp"}))
+    return cases
+
+
+def _make(generator: str, lipm: LIPM, control_period: float, options: Dict) -> PatternGenerator:
+    if generator == "qpmpc":
+        from .qpmpc_peer import QpmpcPeer
+
+        return QpmpcPeer(lipm=lipm, control_period=control_period, **options)
+    return make_generator(generator, lipm=lipm, control_period=control_period, **options)
+
+
+def run_tick_benchmark(
+    *,
+    nb_steps: int = 20,
+    command: VelocityCommand = VelocityCommand(0.1, 0.0, 0.35),
+    control_period: float = 0.01,
+    solvers: Optional[Sequence[str]] = None,
+    include_peer: bool = True,
+    progress: bool = True,
+) -> List[TickCase]:
+    """Time every generator on the same walk.
+
+    Args:
+        nb_steps: Steps of the walk.
+        command: Velocity command of the footstep planner.
+        control_period: Generator tick, in [s].
+        solvers: qpsolvers back-ends for the MPC (default: :data:`DEFAULT_QPSOLVERS`).
+        include_peer: Also time the qpmpc peer on the same problem.
+        progress: Show a progress bar.
+
+    Returns:
+        One :class:`TickCase` per configuration, the closed form first.
+    """
+    from tqdm import tqdm
+
+    lipm, timing = LIPM(), StepTiming()
+    plan = VelocityPlanner(LegLimits(), timing).plan(command, nb_steps)
+    schedule = ContactSchedule(plan, FootGeometry())
+    results: List[TickCase] = []
+    reference = None
+    for label, generator, solver, options in tqdm(
+        _cases(solvers, include_peer), desc="generators", disable=not progress
+    ):
+        gen = _make(generator, lipm, control_period, options)
+        traj = rollout(gen, schedule)
+        ticks = traj.tick_times[1:] * 1e6  # the first tick includes lazy set-up
+        median = float(np.median(ticks))
+        if reference is None:
+            reference = median
+        margins = support_margins(schedule, traj.times, traj.zmp)
+        results.append(TickCase(
+            label=label, generator=generator, solver=solver, nb_ticks=len(ticks),
+            median_us=median, p99_us=float(np.percentile(ticks, 99)),
+            ratio_to_analytic=median / reference, zmp_margin_min_m=float(margins.min()),
+            failures=int(traj.nb_failures),
+        ))
+    return results
+
+
+def format_table(results: List[TickCase]) -> str:
+    """Markdown table of the results."""
+    lines = [
+        "| generator | median [us] | p99 [us] | median / analytic | min ZMP margin [cm] | QP failures |",
+        "|---|---:|---:|---:|---:|---:|",
+    ]
+    for r in results:
+        lines.append(
+            f"| {r.label} | {r.median_us:.1f} | {r.p99_us:.1f} | {r.ratio_to_analytic:.1f} | "
+            f"{100 * r.zmp_margin_min_m:.2f} | {r.failures} |"
+        )
+    return "\n".join(lines)
+
+
+def machine_description() -> str:
+    """One line describing the machine the benchmark ran on."""
+    import os
+
+    return f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}"
+
+
+def results_as_dicts(results: List[TickCase]) -> List[Dict]:
+    """JSON-ready rows."""
+    return [asdict(r) for r in results]

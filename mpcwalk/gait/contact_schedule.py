@@ -1,0 +1,211 @@
+"""Contact schedule: phases, support feet and support polygons over time.
+
+Time ``0`` is the start of the walk. The robot stands in double support for
+``timing.initial_duration``, then step ``k`` occupies
+``[t0 + k T, t0 + (k + 1) T)`` with ``t0 = initial_duration``: double support
+until ``t_b``, single support until ``t_e``, double support until ``T``
+(paper M eq. 4). After the last step the robot stands for
+``timing.final_duration``.
+"""
+
+from dataclasses import dataclass
+from typing import Dict, List, Optional
+
+import numpy as np
+
+from ..footsteps.footstep import FootGeometry, Footstep, FootstepPlan, Side
+from ..models.support_polygon import SupportPolygon, foot_rectangle
+
+#: Half-plane rows reserved per sample: a double-support hull of two
+#: rectangles has at most 8 edges.
+MAX_POLYGON_EDGES = 8
+
+
+@dataclass(frozen=True)
+class Phase:
+    """One contact phase.
+
+    Attributes:
+        start: Start time, in [s].
+        end: End time, in [s].
+        step_index: Step this phase belongs to; -1 for the initial stance and
+            ``nb_steps`` for the final one.
+        single_support: True when one foot only is on the ground.
+        support_side: Supporting foot in single support, else None.
+        feet: Feet on the ground during the phase (one or two).
+        polygon: Support polygon of the phase.
+    """
+
+    start: float
+    end: float
+    step_index: int
+    single_support: bool
+    support_side: Optional[Side]
+    feet: Dict[Side, Footstep]
+    polygon: SupportPolygon
+
+    @property
+    def duration(self) -> float:
+        """Phase length, in [s]."""
+        return self.end - self.start
+
+
+class ContactSchedule:
+    """Phases of a footstep plan with fast vectorised queries.
+
+    Args:
+        plan: Footsteps and timing.
+        foot: Sole dimensions used for the support polygons.
+    """
+
+    def __init__(self, plan: FootstepPlan, foot: FootGeometry = FootGeometry()) -> None:
+        self.plan = plan
+        self.foot = foot
+        timing = plan.timing
+        self.step_duration = timing.step_duration
+        self.t_b = timing.single_support_begin
+        self.t_e = timing.single_support_end
+        self.walk_start = timing.initial_duration
+        self.walk_end = self.walk_start + plan.nb_steps * self.step_duration
+        self.duration = self.walk_end + timing.final_duration
+        self._stances = plan.stances()
+        self._rects = [
+            {side: self._rect(f) for side, f in st.items()} for st in self._stances
+        ]
+        self.phases: List[Phase] = self._build_phases()
+        self._phase_starts = np.array([ph.start for ph in self.phases])
+        A, b = zip(*(ph.polygon.padded_halfplanes(MAX_POLYGON_EDGES) for ph in self.phases))
+        self._phase_A = np.array(A)
+        self._phase_b = np.array(b)
+        self._phase_single = np.array([ph.single_support for ph in self.phases])
+        # Waypoints of paper M's ZMP reference: x_t[k] (midpoint of the feet at
+        # each step boundary) and x_s[k] (support foot of step k).
+        self.torso_waypoints = np.array(
+            [0.5 * (st[Side.LEFT].xy + st[Side.RIGHT].xy) for st in self._stances]
+        )
+        self.support_positions = np.array(
+            [plan.support_foot(k).xy for k in range(plan.nb_steps)]
+        ).reshape(-1, 2)
+
+    def _rect(self, foot: Footstep) -> SupportPolygon:
+        return foot_rectangle(foot.xy, foot.yaw, self.foot.length, self.foot.width)
+
+    def _build_phases(self) -> List[Phase]:
+        plan, T = self.plan, self.step_duration
+        phases: List[Phase] = []
+
+        def double(start, end, k, stance_index):
+            st, rects = self._stances[stance_index], self._rects[stance_index]
+            poly = SupportPolygon.union_hull(rects.values())
+            phases.append(Phase(start, end, k, False, None, dict(st), poly))
+
+        if self.walk_start > 0.0:
+            double(0.0, self.walk_start, -1, 0)
+        for k, step in enumerate(plan.steps):
+            t0 = self.walk_start + k * T
+            support = step.side.other
+            if self.t_b > 0.0:
+                double(t0, t0 + self.t_b, k, k)
+            foot = self._stances[k][support]
+            phases.append(
+                Phase(t0 + self.t_b, t0 + self.t_e, k, True, support, {support: foot},
+                      self._rects[k][support])
+            )
+            if self.t_e < T:
+                double(t0 + self.t_e, t0 + T, k, k + 1)
+        double(self.walk_end, max(self.duration, self.walk_end), plan.nb_steps, plan.nb_steps)
+        return phases
+
+    # ----------------------------------------------------------------- queries
+    def phase_index(self, times) -> np.ndarray:
+        """Index into :attr:`phases` of each time (clamped to the schedule)."""
+        idx = np.searchsorted(self._phase_starts, np.asarray(times, dtype=float), side="right") - 1
+        return np.clip(idx, 0, len(self.phases) - 1)
+
+    def phase(self, t: float) -> Phase:
+        """Phase active at time ``t`` [s]."""
+        return self.phases[int(self.phase_index(t))]
+
+    def step_index(self, t: float) -> int:
+        """Step active at ``t``: -1 before the walk, ``nb_steps`` after it."""
+        if t < self.walk_start:
+            return -1
+        return min(int((t - self.walk_start) // self.step_duration), self.plan.nb_steps)
+
+    def step_phase(self, t: float) -> float:
+        """Normalised time ``phi = t / T`` within the current step, in [0, 1]."""
+        k = self.step_index(t)
+        if k < 0:
+            return 0.0
+        if k >= self.plan.nb_steps:
+            return 1.0
+        return (t - self.walk_start - k * self.step_duration) / self.step_duration
+
+    def is_single_support(self, times) -> np.ndarray:
+        """Boolean array: single support at each time."""
+        return self._phase_single[self.phase_index(times)]
+
+    def support_polygon(self, t: float) -> SupportPolygon:
+        """Support polygon at time ``t``."""
+        return self.phase(t).polygon
+
+    def halfplanes(self, times):
+        """Padded half-planes of the support polygon at each time.
+
+        Returns:
+            ``(A, b)`` of shapes (n, MAX_POLYGON_EDGES, 2) and
+            (n, MAX_POLYGON_EDGES), ``A p <= b`` inside.
+        """
+        idx = self.phase_index(times)
+        return self._phase_A[idx], self._phase_b[idx]
+
+    def support_center(self, times) -> np.ndarray:
+        """Centre of the support foot in single support, midpoint of the feet in
+        double support; shape (n, 2), in [m]."""
+        idx = self.phase_index(times)
+        centers = np.array([
+            np.mean([f.xy for f in self.phases[i].feet.values()], axis=0) for i in range(len(self.phases))
+        ])
+        return centers[idx]
+
+    def zmp_reference(self, times) -> np.ndarray:
+        """Paper M's polygonal ZMP reference (eq. 6-8), shape (n, 2), in [m].
+
+        In step ``k`` the ZMP moves linearly from ``x_t[k]`` to the support
+        foot ``x_s[k]`` during ``[0, t_b)``, stays there until ``t_e`` and moves
+        linearly to ``x_t[k+1]`` by ``T``. Before and after the walk it stays at
+        the midpoint of the feet.
+        """
+        t = np.atleast_1d(np.asarray(times, dtype=float))
+        out = np.empty((len(t), 2))
+        N, T = self.plan.nb_steps, self.step_duration
+        rel = t - self.walk_start
+        k = np.floor(rel / T).astype(int)
+        before, after = rel < 0.0, k >= N
+        out[before] = self.torso_waypoints[0]
+        out[after] = self.torso_waypoints[N]
+        walking = ~(before | after)
+        if np.any(walking):
+            kw = k[walking]
+            tau = rel[walking] - kw * T
+            xt0, xs, xt1 = self.torso_waypoints[kw], self.support_positions[kw], self.torso_waypoints[kw + 1]
+            p = xs.copy()
+            if self.t_b > 0.0:
+                a = np.clip(tau / self.t_b, 0.0, 1.0)[:, None]
+                m = tau < self.t_b
+                p[m] = (xt0 + a * (xs - xt0))[m]
+            if self.t_e < T:
+                a = np.clip((tau - self.t_e) / (T - self.t_e), 0.0, 1.0)[:, None]
+                m = tau >= self.t_e
+                p[m] = (xs + a * (xt1 - xs))[m]
+            out[walking] = p
+        return out if np.ndim(times) else out[0]
+
+    def feet_on_ground(self, t: float) -> Dict[Side, Footstep]:
+        """Feet in contact at ``t`` (one in single support, two otherwise)."""
+        return dict(self.phase(t).feet)
+
+    def stance(self, t: float) -> Dict[Side, Footstep]:
+        """Last landed pose of both feet at ``t`` (the swing foot: its lift pose)."""
+        k = self.step_index(t)
+        return dict(self._stances[max(k, 0)] if k < self.plan.nb_steps else self._stances[-1])

@@ -1,0 +1,153 @@
+"""Cartesian point-to-point trajectories (paper A's ``ctraj``).
+
+The pose moves along the straight line between the two positions and along
+the geodesic (constant axis of rotation) between the two orientations. Both
+follow the same quintic time law ``r(s)`` of :func:`~mpcwalk.gait.jtraj.jtraj`
+(zero velocity and acceleration at both ends), sampled at ``n`` evenly spaced
+normalised times ``s``:
+
+    p(s) = p0 + r(s) (p1 - p0)
+    R(s) = R0 exp(r(s) log(R0^T R1))
+
+With ``precision`` (paper A: the spacing the user wants between consecutive
+points, in [m]) the number of samples is chosen so that no two consecutive
+positions are farther apart than ``precision``. The quintic law moves at up
+to 15/8 of its mean speed, so ``n = ceil(15/8 * distance / precision) + 1``
+(at least 2), where ``distance = |p1 - p0|``.
+"""
+
+import math
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+import pinocchio as pin
+
+from ..exceptions import ConfigurationError
+from .jtraj import check_nb_samples, jtraj
+
+#: Peak of the quintic time law's derivative, ``r'(1/2) = 15/8``.
+QUINTIC_PEAK_RATE = 15.0 / 8.0
+
+#: Tolerance on ``R^T R = I`` and ``det R = 1`` for input poses.
+ROTATION_TOLERANCE = 1e-6
+
+
+@dataclass(frozen=True)
+class CartesianTrajectory:
+    """Sampled Cartesian trajectory.
+
+    Attributes:
+        poses: Homogeneous transforms, shape (n, 4, 4), positions in [m].
+        s: Normalised time of each sample, shape (n,), from 0 to 1.
+        path_fraction: Fraction ``r(s)`` of the way travelled at each sample,
+            shape (n,), from 0 to 1 (quintic in ``s``).
+    """
+
+    poses: np.ndarray
+    s: np.ndarray
+    path_fraction: np.ndarray
+
+    @property
+    def positions(self) -> np.ndarray:
+        """Positions, shape (n, 3), in [m]."""
+        return self.poses[:, :3, 3]
+
+    @property
+    def rotations(self) -> np.ndarray:
+        """Rotation matrices, shape (n, 3, 3)."""
+        return self.poses[:, :3, :3]
+
+    @property
+    def nb_samples(self) -> int:
+        """Number of samples ``n``."""
+        return len(self.s)
+
+
+def as_homogeneous(pose, name: str = "pose") -> np.ndarray:
+    """A validated 4x4 homogeneous transform from an array or a pinocchio.SE3.
+
+    Raises:
+        ConfigurationError: If ``pose`` is not a rigid transform.
+    """
+    if isinstance(pose, pin.SE3):
+        return np.array(pose.homogeneous, dtype=float)
+    try:
+        matrix = np.array(pose, dtype=float)
+    except (TypeError, ValueError):
+        matrix = None
+    if matrix is None or matrix.shape != (4, 4) or not np.all(np.isfinite(matrix)):
+        raise ConfigurationError(
+            f"{name} must be a pinocchio.SE3 or a finite 4x4 homogeneous transform, "
+            f"got {type(pose).__name__} "
+            f"{'of shape ' + str(matrix.shape) if matrix is not None else ''}."
+        )
+    rotation = matrix[:3, :3]
+    orthonormal = np.allclose(rotation.T @ rotation, np.eye(3), atol=ROTATION_TOLERANCE)
+    if not np.allclose(matrix[3], [0.0, 0.0, 0.0, 1.0]) or not orthonormal or (
+        np.linalg.det(rotation) < 0.0
+    ):
+        raise ConfigurationError(
+            f"{name} is not a rigid transform: its last row must be [0, 0, 0, 1] and "
+            f"its 3x3 block a rotation (R^T R = I to {ROTATION_TOLERANCE:g}, det R = +1). "
+            "Build it with pinocchio.SE3(R, p) or re-orthonormalise R."
+        )
+    return matrix
+
+
+def ctraj(
+    T0, T1, n: Optional[int] = None, *, precision: Optional[float] = None
+) -> CartesianTrajectory:
+    """Cartesian trajectory from pose ``T0`` to pose ``T1``.
+
+    Give exactly one of ``n`` and ``precision``.
+
+    Args:
+        T0: Start pose, 4x4 homogeneous transform or pinocchio.SE3.
+        T1: End pose, same types.
+        n: Number of samples, including both ends (>= 2).
+        precision: Largest distance between consecutive positions, in [m];
+            the number of samples follows from it (see the module docstring).
+
+    Returns:
+        The sampled trajectory; its first and last poses equal ``T0`` and
+        ``T1`` exactly.
+
+    Raises:
+        ConfigurationError: If a pose is not a rigid transform, if both or
+            neither of ``n`` and ``precision`` are given, or if ``precision``
+            is not a positive number.
+    """
+    start = as_homogeneous(T0, "T0")
+    end = as_homogeneous(T1, "T1")
+    if (n is None) == (precision is None):
+        raise ConfigurationError(
+            "ctraj needs exactly one of n (number of samples) and precision "
+            f"(spacing in metres), got n={n!r} and precision={precision!r}."
+        )
+    translation = end[:3, 3] - start[:3, 3]
+    if precision is not None:
+        try:
+            precision = float(precision)
+        except (TypeError, ValueError):
+            precision = float("nan")
+        if not np.isfinite(precision) or precision <= 0.0:
+            raise ConfigurationError(
+                f"precision must be a positive distance in metres, got {precision!r}."
+            )
+        distance = float(np.linalg.norm(translation))
+        n = max(2, math.ceil(QUINTIC_PEAK_RATE * distance / precision) + 1)
+    n = check_nb_samples(n)
+    timing = jtraj(0.0, 1.0, n)
+    fraction = np.array(timing.q[:, 0])
+    rotation0 = start[:3, :3]
+    axis_angle = pin.log3(rotation0.T @ end[:3, :3])
+    poses = np.tile(np.eye(4), (n, 1, 1))
+    for i, r in enumerate(fraction):
+        poses[i, :3, :3] = rotation0 @ pin.exp3(r * axis_angle)
+    poses[:, :3, 3] = start[:3, 3] + fraction[:, None] * translation
+    poses[0], poses[-1] = start, end
+    s = np.array(timing.s)
+    for array in (poses, s, fraction):
+        array.setflags(write=False)
+    return CartesianTrajectory(poses=poses, s=s, path_fraction=fraction)

@@ -1,0 +1,258 @@
+"""Swing-foot and torso-yaw trajectories of paper M (eq. 19-23).
+
+During step ``k`` the swing foot goes from its lift pose (its footstep
+before the step) to its landing pose ``plan.steps[k]``:
+
+- its horizontal pose ``(x, y, yaw)`` follows ``(1 - h) p[k] + h p[k+1]``
+  (eq. 21), with ``h`` of :func:`~mpcwalk.gait.interpolation.step_interpolation`;
+- its height is the ground height, interpolated with ``h`` between the two
+  footsteps, plus ``z_step * v`` (eq. 22-23) with ``v`` of
+  :func:`~mpcwalk.gait.interpolation.swing_height_profile`.
+
+The torso yaw follows ``(1 - h) psi[k] + h psi[k+1]`` (eq. 19), where
+``psi[k]`` is the mean yaw of the two feet at the start of step ``k``; it
+does not change in double support. Velocities are the analytic time
+derivatives of these expressions.
+"""
+
+from dataclasses import dataclass
+from typing import Dict, Optional, Tuple, Union
+
+import numpy as np
+
+from ..exceptions import ConfigurationError
+from ..footsteps.footstep import Footstep, Side, wrap_angle
+from .contact_schedule import ContactSchedule
+from .interpolation import (
+    step_interpolation,
+    step_interpolation_derivative,
+    swing_height_profile,
+    swing_height_profile_derivative,
+)
+
+
+def _frozen(values) -> np.ndarray:
+    array = np.array(values, dtype=float)
+    array.setflags(write=False)
+    return array
+
+
+@dataclass(frozen=True)
+class FootState:
+    """Pose and velocity of one foot (sole centre, world frame).
+
+    Attributes:
+        position: Sole centre, shape (3,), in [m].
+        yaw: Heading about the world z axis, in [rad]. It equals the
+            footstep's yaw while the foot is on the ground and is continuous
+            during a swing (not wrapped).
+        linear_velocity: Time derivative of ``position``, shape (3,), in [m/s].
+        yaw_rate: Time derivative of ``yaw``, in [rad/s].
+        in_contact: True when the foot is on the ground.
+    """
+
+    position: np.ndarray
+    yaw: float
+    linear_velocity: np.ndarray
+    yaw_rate: float
+    in_contact: bool
+
+    @property
+    def transform(self) -> np.ndarray:
+        """Homogeneous transform of the (flat) foot in the world, shape (4, 4)."""
+        c, s = np.cos(self.yaw), np.sin(self.yaw)
+        out = np.eye(4)
+        out[:2, :2] = [[c, -s], [s, c]]
+        out[:3, 3] = self.position
+        return out
+
+
+@dataclass(frozen=True)
+class FeetState:
+    """State of both feet at one time.
+
+    Attributes:
+        time: Time of the query, in [s].
+        step_index: Step active at ``time``: -1 before the walk, ``nb_steps``
+            after it.
+        left: Left foot.
+        right: Right foot.
+    """
+
+    time: float
+    step_index: int
+    left: FootState
+    right: FootState
+
+    def __getitem__(self, side: Union[Side, str]) -> FootState:
+        """State of the foot ``side`` (a :class:`Side` or ``"left"``/``"right"``)."""
+        return self.left if Side.parse(side) is Side.LEFT else self.right
+
+    @property
+    def contact_sides(self) -> Tuple[Side, ...]:
+        """Feet on the ground (one in single support, two otherwise)."""
+        return tuple(side for side in Side if self[side].in_contact)
+
+    @property
+    def swing_side(self) -> Optional[Side]:
+        """The foot in the air, or None in double support."""
+        airborne = [side for side in Side if not self[side].in_contact]
+        return airborne[0] if airborne else None
+
+
+def _static_state(foot: Footstep) -> FootState:
+    return FootState(_frozen(foot.position), foot.yaw, _frozen(np.zeros(3)), 0.0, True)
+
+
+class SwingFootTrajectory:
+    """Feet and torso-yaw references along a contact schedule (paper M).
+
+    Args:
+        schedule: Contact schedule of the walk.
+        step_height: Maximum height ``z_step`` of the swing foot above the
+            ground, reached in the middle of single support, in [m]
+            (paper M, Table 1: 0.04 m).
+
+    Raises:
+        ConfigurationError: If ``schedule`` is not a ContactSchedule or
+            ``step_height`` is negative or not finite.
+    """
+
+    def __init__(self, schedule: ContactSchedule, step_height: float = 0.04) -> None:
+        if not isinstance(schedule, ContactSchedule):
+            raise ConfigurationError(
+                f"SwingFootTrajectory needs a ContactSchedule, got "
+                f"{type(schedule).__name__}; build one with ContactSchedule(plan)."
+            )
+        try:
+            step_height = float(step_height)
+        except (TypeError, ValueError):
+            step_height = float("nan")
+        if not np.isfinite(step_height) or step_height < 0.0:
+            raise ConfigurationError(
+                f"step_height must be a non-negative number of metres, got "
+                f"{step_height!r}; paper M uses 0.04 m."
+            )
+        self.schedule = schedule
+        self.step_height = step_height
+        self.step_duration = schedule.step_duration
+        self.phi_b = schedule.t_b / schedule.step_duration
+        self.phi_e = schedule.t_e / schedule.step_duration
+        self.torso_yaws = self._torso_waypoint_yaws()
+
+    def _torso_waypoint_yaws(self) -> np.ndarray:
+        """Torso yaw ``psi[k]`` at the start of each step (and after the last),
+        shape (nb_steps + 1,), in [rad], unwrapped so that consecutive values
+        differ by less than pi."""
+        yaws = []
+        for stance in self.schedule.plan.stances():
+            left, right = stance[Side.LEFT].yaw, stance[Side.RIGHT].yaw
+            mean = left + 0.5 * float(wrap_angle(right - left))
+            if yaws:
+                mean = yaws[-1] + float(wrap_angle(mean - yaws[-1]))
+            yaws.append(mean)
+        return _frozen(yaws)
+
+    def _interpolants(self, t: float) -> Tuple[int, float, float]:
+        """Active step, ``h`` and ``dh/dt`` at time ``t``."""
+        k = self.schedule.step_index(t)
+        if k < 0 or k >= self.schedule.plan.nb_steps:
+            return k, 0.0, 0.0
+        phi = self.schedule.step_phase(t)
+        h = step_interpolation(phi, self.phi_b, self.phi_e)
+        dh = step_interpolation_derivative(
+            phi, self.phi_b, self.phi_e, step_duration=self.step_duration
+        )
+        return k, h, dh
+
+    @staticmethod
+    def _check_time(t) -> float:
+        try:
+            t = float(t)
+        except (TypeError, ValueError):
+            t = float("nan")
+        if not np.isfinite(t):
+            raise ConfigurationError(f"Time must be a finite number of seconds, got {t!r}.")
+        return t
+
+    def foot_poses(self, t: float) -> FeetState:
+        """Poses and velocities of both feet at time ``t`` [s].
+
+        Returns:
+            The feet state. A foot on the ground sits exactly on its footstep
+            with zero velocity; the swing foot follows eq. 21-23.
+        """
+        t = self._check_time(t)
+        schedule = self.schedule
+        k, h, dh = self._interpolants(t)
+        stance = schedule.stance(t)
+        in_contact = schedule.phase(t).feet
+        states: Dict[Side, FootState] = {
+            side: _static_state(foot) for side, foot in stance.items()
+        }
+        if 0 <= k < schedule.plan.nb_steps:
+            landing = schedule.plan.steps[k]
+            swing = landing.side
+            lift = stance[swing]
+            if swing in in_contact:
+                phi = schedule.step_phase(t)
+                states[swing] = _static_state(lift if phi < 0.5 else landing)
+            else:
+                states[swing] = self._swing_state(t, lift, landing, h, dh)
+        return FeetState(t, k, states[Side.LEFT], states[Side.RIGHT])
+
+    def _swing_state(
+        self, t: float, lift: Footstep, landing: Footstep, h: float, dh: float
+    ) -> FootState:
+        phi = self.schedule.step_phase(t)
+        v = swing_height_profile(phi, self.phi_b, self.phi_e)
+        dv = swing_height_profile_derivative(
+            phi, self.phi_b, self.phi_e, step_duration=self.step_duration
+        )
+        delta = landing.position - lift.position
+        delta_yaw = float(wrap_angle(landing.yaw - lift.yaw))
+        lift_direction = np.array([0.0, 0.0, self.step_height])
+        position = lift.position + h * delta + v * lift_direction
+        velocity = dh * delta + dv * lift_direction
+        return FootState(
+            _frozen(position), lift.yaw + h * delta_yaw, _frozen(velocity),
+            dh * delta_yaw, False,
+        )
+
+    def torso_yaw(self, t):
+        """Torso yaw (eq. 19) at time(s) ``t`` [s], in [rad].
+
+        The yaw is continuous over the whole walk (not wrapped to [-pi, pi));
+        apply :func:`~mpcwalk.footsteps.footstep.wrap_angle` if needed.
+
+        Returns:
+            A float for a scalar ``t``, else an array of the shape of ``t``.
+        """
+        return self._vectorised(t, self._torso_yaw)
+
+    def torso_yaw_rate(self, t):
+        """Time derivative of :meth:`torso_yaw` at time(s) ``t`` [s], in [rad/s]."""
+        return self._vectorised(t, self._torso_yaw_rate)
+
+    def _vectorised(self, t, function):
+        if np.ndim(t) == 0:
+            return function(self._check_time(t))
+        times = np.asarray(t, dtype=float)
+        flat = [function(self._check_time(x)) for x in times.ravel()]
+        return np.array(flat).reshape(times.shape)
+
+    def _torso_yaw(self, t: float) -> float:
+        k, h, _ = self._interpolants(t)
+        psi = self.torso_yaws
+        if k < 0:
+            return float(psi[0])
+        if k >= len(psi) - 1:
+            return float(psi[-1])
+        return float(psi[k] + h * (psi[k + 1] - psi[k]))
+
+    def _torso_yaw_rate(self, t: float) -> float:
+        k, _, dh = self._interpolants(t)
+        psi = self.torso_yaws
+        if k < 0 or k >= len(psi) - 1:
+            return 0.0
+        return float(dh * (psi[k + 1] - psi[k]))
