@@ -51,3 +51,6 @@ def add_bench_parser(sub) -> None:
     ticks.add_argument("--no-progress", action="store_true")
     ticks.add_argument("--out", type=Path, default=Path("results/ticks"))
     ticks.set_defaults(bench_func=_run_ticks)
+    from .ik_bench import add_ik_bench_parser
+
+    add_ik_bench_parser(bsub)

@@ -1,5 +1,34 @@
-"""Footsteps: types, the velocity planner (paper M), path files (paper A)."""
+"""Footsteps: types, the velocity planner (paper M), path files and reachability (paper A)."""
 
 from .footstep import FootGeometry, Footstep, FootstepPlan, Side, StepTiming, rotation_2d, wrap_angle
+from .mdat import (
+    MDAT_FIELDS,
+    PathTarget,
+    PathWaypoint,
+    parse_mdat,
+    path_targets,
+    plan_from_path,
+    quaternion_to_yaw,
+    read_mdat,
+    write_mdat,
+    yaw_to_quaternion,
+)
+from .path_follower import PathFollower
+from .reachability import (
+    ATLAS_REACHABILITY,
+    SMALL_HUMANOID_REACHABILITY,
+    ClampedFootstep,
+    ClampedStep,
+    ReachabilityRectangle,
+    opening_side,
+)
+from .velocity_planner import LegLimits, VelocityCommand, VelocityPlanner, integrate_torso, plan_from_velocity
 
-__all__ = ["FootGeometry", "Footstep", "FootstepPlan", "Side", "StepTiming", "rotation_2d", "wrap_angle"]
+__all__ = [
+    "ATLAS_REACHABILITY", "ClampedFootstep", "ClampedStep", "FootGeometry", "Footstep",
+    "FootstepPlan", "LegLimits", "MDAT_FIELDS", "PathFollower", "PathTarget", "PathWaypoint",
+    "ReachabilityRectangle", "SMALL_HUMANOID_REACHABILITY", "Side", "StepTiming",
+    "VelocityCommand", "VelocityPlanner", "integrate_torso", "opening_side", "parse_mdat",
+    "path_targets", "plan_from_path", "plan_from_velocity", "quaternion_to_yaw", "read_mdat",
+    "rotation_2d", "wrap_angle", "write_mdat", "yaw_to_quaternion",
+]

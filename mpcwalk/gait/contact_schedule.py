@@ -20,6 +20,8 @@ from ..models.support_polygon import SupportPolygon, foot_rectangle
 #: rectangles has at most 8 edges.
 MAX_POLYGON_EDGES = 8
 
+_KNOT_GAP = 1e-9  # [s] knot placed just before each breakpoint of the ZMP reference
+
 
 @dataclass(frozen=True)
 class Phase:
@@ -86,6 +88,18 @@ class ContactSchedule:
         self.support_positions = np.array(
             [plan.support_foot(k).xy for k in range(plan.nb_steps)]
         ).reshape(-1, 2)
+        #: Support centre of each phase (support foot, or midpoint of the feet), (n_phases, 2).
+        self.phase_centers = np.array(
+            [np.mean([f.xy for f in ph.feet.values()], axis=0) for ph in self.phases]
+        )
+        # The ZMP reference is piecewise linear with breakpoints at phase
+        # boundaries: tabulate it there (and just before each, in case it jumps,
+        # as with no double support) so that queries are one interpolation.
+        bounds = np.unique([0.0, self.duration] + [ph.start for ph in self.phases]
+                           + [ph.end for ph in self.phases])
+        #: Times where the ZMP reference may bend, and its values there, (k,) and (k, 2).
+        self.zmp_breakpoints = np.unique(np.concatenate([bounds, bounds[1:] - _KNOT_GAP]))
+        self.zmp_breakpoint_values = self._zmp_reference_exact(self.zmp_breakpoints)
 
     def _rect(self, foot: Footstep) -> SupportPolygon:
         return foot_rectangle(foot.xy, foot.yaw, self.foot.length, self.foot.width)
@@ -162,13 +176,23 @@ class ContactSchedule:
     def support_center(self, times) -> np.ndarray:
         """Centre of the support foot in single support, midpoint of the feet in
         double support; shape (n, 2), in [m]."""
-        idx = self.phase_index(times)
-        centers = np.array([
-            np.mean([f.xy for f in self.phases[i].feet.values()], axis=0) for i in range(len(self.phases))
-        ])
-        return centers[idx]
+        return self.phase_centers[self.phase_index(times)]
 
     def zmp_reference(self, times) -> np.ndarray:
+        """Paper M's polygonal ZMP reference (eq. 6-8), shape (n, 2), in [m].
+
+        In step ``k`` the ZMP moves linearly from ``x_t[k]`` to the support
+        foot ``x_s[k]`` during ``[0, t_b)``, stays there until ``t_e`` and moves
+        linearly to ``x_t[k+1]`` by ``T``. Before and after the walk it stays at
+        the midpoint of the feet. Evaluated by interpolation between its
+        breakpoints (exact but within 1 ns of a jump when ``r_ds = 0``).
+        """
+        t = np.asarray(times, dtype=float)
+        out = np.stack([np.interp(t, self.zmp_breakpoints, self.zmp_breakpoint_values[:, 0]),
+                        np.interp(t, self.zmp_breakpoints, self.zmp_breakpoint_values[:, 1])], axis=-1)
+        return out
+
+    def _zmp_reference_exact(self, times) -> np.ndarray:
         """Paper M's polygonal ZMP reference (eq. 6-8), shape (n, 2), in [m].
 
         In step ``k`` the ZMP moves linearly from ``x_t[k]`` to the support

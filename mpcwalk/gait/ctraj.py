@@ -77,10 +77,12 @@ def as_homogeneous(pose, name: str = "pose") -> np.ndarray:
     except (TypeError, ValueError):
         matrix = None
     if matrix is None or matrix.shape != (4, 4) or not np.all(np.isfinite(matrix)):
+        came = type(pose).__name__
+        if matrix is not None:
+            came += f" of shape {matrix.shape}"
         raise ConfigurationError(
             f"{name} must be a pinocchio.SE3 or a finite 4x4 homogeneous transform, "
-            f"got {type(pose).__name__} "
-            f"{'of shape ' + str(matrix.shape) if matrix is not None else ''}."
+            f"got {came}."
         )
     rotation = matrix[:3, :3]
     orthonormal = np.allclose(rotation.T @ rotation, np.eye(3), atol=ROTATION_TOLERANCE)

@@ -154,11 +154,18 @@ class SwingFootTrajectory:
         return _frozen(yaws)
 
     def _interpolants(self, t: float) -> Tuple[int, float, float]:
-        """Active step, ``h`` and ``dh/dt`` at time ``t``."""
+        """Active step, ``h`` and ``dh/dt`` at time ``t``.
+
+        In double support ``h`` is exactly 0 or 1 and ``dh/dt`` exactly 0, as
+        the schedule's phases say (robust to the rounding of ``phi`` at the
+        phase boundaries).
+        """
         k = self.schedule.step_index(t)
         if k < 0 or k >= self.schedule.plan.nb_steps:
             return k, 0.0, 0.0
         phi = self.schedule.step_phase(t)
+        if not self.schedule.phase(t).single_support:
+            return k, (0.0 if phi < 0.5 else 1.0), 0.0
         h = step_interpolation(phi, self.phi_b, self.phi_e)
         dh = step_interpolation_derivative(
             phi, self.phi_b, self.phi_e, step_duration=self.step_duration

@@ -7,12 +7,16 @@ is the LIPM solution that meets ``c(0) = x_t[k]`` and ``c(T) = x_t[k+1]``
 (eq. 9). The x and y axes are solved independently.
 
 Only positions are imposed at the step boundaries, so the CoM *velocity*
-jumps from one step to the next (and from rest into the first step): each step
-is a separate boundary value problem, as in the paper. Position and
-acceleration stay continuous (at a boundary ``c = p`` so ``c_ddot = 0``). This
+may jump from one step to the next: each step is a separate boundary value
+problem, as in the paper. Position and acceleration stay continuous (at a
+boundary ``c = p`` so ``c_ddot = 0``). In steady walking consecutive steps
+mirror each other and the jump vanishes; it is large where the gait changes:
+from rest into the first step and from the last step to rest (about 0.2 m/s
+lateral with paper M's Table 1 parameters), and when the command changes. This
 generator is the paper's baseline and keeps that behaviour on purpose.
 """
 
+import math
 from dataclasses import dataclass
 from typing import List, Optional
 
@@ -37,7 +41,9 @@ class ClosedFormStep:
     (2,) for x and y); evaluations at times of shape ``n`` return arrays of
     shape ``n + s``. Times are relative to the start of the step, in [s]; the
     formulas are meant for ``[0, T]`` (outside, the first and last pieces
-    extend).
+    extend). The evaluation sums the large terms of the double-support pieces
+    analytically, so it stays accurate for long double supports (see
+    :meth:`_free`).
 
     Attributes:
         x_t0: Torso waypoint ``x_t[k]`` at the step start, in [m].
@@ -72,7 +78,9 @@ class ClosedFormStep:
     def _pieces(self, times):
         t = np.asarray(times, dtype=float)
         tt = t.reshape(t.shape + (1,) * np.ndim(self.x_t0))
-        return tt, tt < self.t_b, tt >= self.t_e
+        first = (tt < self.t_b) & (self.t_b > 0.0)
+        last = (tt >= self.t_e) & (self.t_e < self.T)
+        return tt, first, last
 
     def zmp(self, times) -> np.ndarray:
         """ZMP reference ``p(t)`` (eq. 8), in [m]."""
@@ -80,38 +88,90 @@ class ClosedFormStep:
         p = np.where(first, self.x_t0 + self.m_d1 * tt, self.x_s)
         return np.where(last, self.x_s + self.m_d2 * (tt - self.t_e), p)
 
-    def _homogeneous(self, tt, order: int):
-        """``d^order/dt^order`` of ``C1 e^{wt} + C2 e^{-wt}``, overflow-free."""
-        w, T = self.omega, self.T
-        e1 = np.exp(-w * T)
-        C1_at_T = (self.k_d2 - self.k_d1 * e1) / (1.0 - e1 * e1)  # C1 e^{wT}
-        grow = C1_at_T * np.exp(w * (tt - T))
-        decay = self.C2 * np.exp(-w * tt)
-        return w**order * (grow + (-1) ** order * decay)
+    def _free(self, times, order: int) -> np.ndarray:
+        """``d^order/dt^order`` of ``c - p = C1 e^{wt} + C2 e^{-wt} + c2(t)``.
 
-    def _c2(self, tt, first, last, order: int):
-        """``d^order/dt^order`` of eq. 13."""
-        w = self.omega
-        f = (np.sinh, np.cosh)[order % 2]
-        a = -(self.m_d1 / w) * w**order * f(w * (tt - self.t_b))
-        b = -(self.m_d2 / w) * w**order * f(w * (tt - self.t_e))
-        return np.where(first, a, 0.0) + np.where(last, b, 0.0)
+        Evaluated without cancellation: in the double-support pieces the
+        large terms ``k_d1 e^{-wt}`` (resp. ``k_d2 e^{w(t-T)}``) of the
+        homogeneous part and ``c2`` are summed analytically, e.g. on
+        ``[0, t_b)``: ``k_d1 e^{-wt} + c2 = -(m_d1 / 2w) (e^{w(t-t_b)} -
+        e^{-w(t+t_b)})``. Same function as eq. 11-13, accurate for long
+        double supports (``omega t_b >> 1``) too.
+        """
+        tt, first, last = self._pieces(times)
+        w, T, n = self.omega, self.T, order
+        sign = (-1.0) ** n
+        e1 = np.exp(-w * T)
+        den = 1.0 - e1 * e1
+        kd1_decay = self.k_d1 * np.exp(-w * tt)  # k_d1 e^{-wt}
+        kd2_grow = self.k_d2 * np.exp(w * (tt - T))  # k_d2 e^{w(t-T)}
+        grow_rest = -self.k_d1 * np.exp(w * (tt - 2.0 * T)) / den
+        decay_rest = -self.k_d2 * np.exp(-w * (tt + T)) / den
+        # C1 e^{wt} = grow and C2 e^{-wt} = decay (eq. 17-18 divided by e^{wT}).
+        grow = kd2_grow / den + grow_rest
+        decay = kd1_decay / den + decay_rest
+        first_part = -(self.m_d1 / (2.0 * w)) * (
+            np.exp(w * (tt - self.t_b)) - sign * np.exp(-w * (tt + self.t_b)))
+        last_part = (self.m_d2 / (2.0 * w)) * (
+            sign * np.exp(-w * (tt - self.t_e)) - np.exp(w * (tt + self.t_e - 2.0 * T)))
+        mid = grow + sign * decay
+        on_first = grow + sign * (kd1_decay * e1 * e1 / den + decay_rest) + first_part
+        on_last = (kd2_grow * e1 * e1 / den + grow_rest) + sign * decay + last_part
+        return w**n * np.where(first, on_first, np.where(last, on_last, mid))
 
     def com(self, times) -> np.ndarray:
         """CoM position ``c(t) = p + C1 e^{wt} + C2 e^{-wt} + c2`` (eq. 11-13), in [m]."""
-        tt, first, last = self._pieces(times)
-        return self.zmp(times) + self._homogeneous(tt, 0) + self._c2(tt, first, last, 0)
+        return self.zmp(times) + self._free(times, 0)
 
     def com_velocity(self, times) -> np.ndarray:
         """Analytic ``c_dot(t)``, in [m]/[s]."""
-        tt, first, last = self._pieces(times)
+        _, first, last = self._pieces(times)
         p_dot = np.where(first, self.m_d1, 0.0) + np.where(last, self.m_d2, 0.0)
-        return p_dot + self._homogeneous(tt, 1) + self._c2(tt, first, last, 1)
+        return p_dot + self._free(times, 1)
 
     def com_acceleration(self, times) -> np.ndarray:
         """Analytic ``c_ddot(t)`` (the ZMP is piecewise linear), in [m]/[s]^2."""
-        tt, first, last = self._pieces(times)
-        return self._homogeneous(tt, 2) + self._c2(tt, first, last, 2)
+        return self._free(times, 2)
+
+    def state_at(self, t: float) -> np.ndarray:
+        """Position, velocity and acceleration at one time, shape ``(3,) + s``.
+
+        Same formulas as :meth:`state` (see :meth:`_free`) on a scalar time:
+        the per-tick path of the generator, without array dispatch overhead.
+        """
+        t = float(t)
+        w, T = self.omega, self.T
+        first = t < self.t_b and self.t_b > 0.0
+        last = (not first) and t >= self.t_e and self.t_e < self.T
+        e1 = math.exp(-w * T)
+        den = 1.0 - e1 * e1
+        kd1_decay = self.k_d1 * math.exp(-w * t)
+        kd2_grow = self.k_d2 * math.exp(w * (t - T))
+        grow_rest = -self.k_d1 * (math.exp(w * (t - 2.0 * T)) / den)
+        decay_rest = -self.k_d2 * (math.exp(-w * (t + T)) / den)
+        grow = kd2_grow / den + grow_rest
+        decay = kd1_decay / den + decay_rest
+        out = []
+        for n in range(3):
+            sign = -1.0 if n % 2 else 1.0
+            if first:
+                part = -(self.m_d1 / (2.0 * w)) * (
+                    math.exp(w * (t - self.t_b)) - sign * math.exp(-w * (t + self.t_b)))
+                val = grow + sign * (kd1_decay * (e1 * e1 / den) + decay_rest) + part
+            elif last:
+                part = (self.m_d2 / (2.0 * w)) * (
+                    sign * math.exp(-w * (t - self.t_e)) - math.exp(w * (t + self.t_e - 2.0 * T)))
+                val = (kd2_grow * (e1 * e1 / den) + grow_rest) + sign * decay + part
+            else:
+                val = grow + sign * decay
+            out.append(w**n * val)
+        if first:
+            zmp, zmp_rate = self.x_t0 + self.m_d1 * t, self.m_d1
+        elif last:
+            zmp, zmp_rate = self.x_s + self.m_d2 * (t - self.t_e), self.m_d2
+        else:
+            zmp, zmp_rate = self.x_s, 0.0
+        return np.stack([zmp + out[0], zmp_rate + out[1], out[2]])
 
     def state(self, times) -> np.ndarray:
         """Position, velocity and acceleration stacked on a new axis 1, in SI units.
@@ -152,7 +212,8 @@ def closed_form_step(x_t0, x_s, x_t1, T: float, t_b: float, t_e: float,
             or times out of order.
     """
     try:
-        x_t0, x_s, x_t1 = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (x_t0, x_s, x_t1)))
+        x_t0, x_s, x_t1 = (np.array(v) for v in np.broadcast_arrays(
+            *(np.asarray(v, dtype=float) for v in (x_t0, x_s, x_t1))))
         T, t_b, t_e, omega = (float(v) for v in (T, t_b, t_e, omega))
     except (TypeError, ValueError) as exc:
         raise ConfigurationError(
@@ -195,13 +256,14 @@ class AnalyticGenerator(PatternGenerator):
         control_period: Output period, in [s].
         horizon_time: Length of :attr:`GeneratorOutput.horizon`, in [s];
             None: the rest of the current step (what the paper plans at once;
-            no horizon while standing); 0: no horizon.
+            no horizon while standing); 0 (default): no horizon, the cheap
+            per-tick path (:meth:`evaluate` gives the CoM at any times).
     """
 
     name = "analytic"
 
     def __init__(self, *, lipm: LIPM = LIPM(), control_period: float = 0.01,
-                 horizon_time: Optional[float] = None) -> None:
+                 horizon_time: Optional[float] = 0.0) -> None:
         super().__init__(lipm=lipm, control_period=control_period)
         if horizon_time is not None and (not np.isfinite(horizon_time) or horizon_time < 0.0):
             raise ConfigurationError(
@@ -238,15 +300,24 @@ class AnalyticGenerator(PatternGenerator):
         out = np.zeros((len(t), 3, 2))
         N, T = len(self.steps), sched.step_duration
         k = np.floor((t - sched.walk_start) / T).astype(int)
-        out[:, 0] = sched.torso_waypoints[np.clip(k, 0, N)]
-        out[k >= N, 0] = sched.torso_waypoints[N]
+        out[:, 0] = sched.torso_waypoints[np.clip(k, 0, N)]  # standing before / after
         for i in np.unique(k[(k >= 0) & (k < N)]):
             sel = k == i
             out[sel] = self.steps[i].state(t[sel] - sched.walk_start - i * T)
         return out
 
+    def state_at(self, t: float) -> np.ndarray:
+        """CoM state at one time, shape (3, 2) (fast path of :meth:`evaluate`)."""
+        sched = self.schedule
+        k = int(math.floor((t - sched.walk_start) / sched.step_duration))
+        if not 0 <= k < len(self.steps):
+            state = np.zeros((3, 2))
+            state[0] = sched.torso_waypoints[min(max(k, 0), len(self.steps))]
+            return state
+        return self.steps[k].state_at(t - sched.walk_start - k * sched.step_duration)
+
     def _make_output(self, t: float) -> GeneratorOutput:
-        state = self.evaluate([t])[0]
+        state = self.state_at(t)
         return self._output(t, state, horizon=self._horizon(t))
 
     def _horizon(self, t: float) -> Optional[Horizon]:

@@ -92,7 +92,7 @@ class StaticGenerator(PatternGenerator):
         """Alternate shifts (double support) and holds (single support)."""
         N, T, t0 = sched.plan.nb_steps, sched.step_duration, sched.walk_start
         xt, xs = sched.torso_waypoints, sched.support_positions
-        if N > 0 and (sched.t_b <= 0.0 or (N > 1 and sched.t_e >= T)):
+        if N > 0 and sched.t_b <= 0.0:
             raise ConfigurationError(
                 "The static generator moves the CoM only in double support, but the "
                 f"schedule has none (t_b={sched.t_b:g} s, t_e={sched.t_e:g} s, T={T:g} s); "

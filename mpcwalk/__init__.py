@@ -1,0 +1,66 @@
+"""mpcwalk: optimization-based walking of humanoid robots.
+
+QP-based preview controllers over the CoM and the ZMP (Kajita preview control,
+Wieber linear MPC) beside the closed-form gaits they reformulate (Maximo &
+Ribeiro's ZMP walking engine, the static Atlas gait of the DARPA VRC), all
+behind one pattern-generator protocol.
+"""
+
+from .exceptions import (
+    ConfigurationError,
+    FootstepFileError,
+    GeneratorNotFound,
+    InfeasibleCommand,
+    InfeasibleStep,
+    MpcwalkError,
+    NoSolutionFound,
+    NotReset,
+    SolverNotFound,
+)
+from .footsteps import (
+    FootGeometry,
+    Footstep,
+    FootstepPlan,
+    LegLimits,
+    PathFollower,
+    ReachabilityRectangle,
+    Side,
+    StepTiming,
+    VelocityCommand,
+    VelocityPlanner,
+    plan_from_path,
+    plan_from_velocity,
+    read_mdat,
+    write_mdat,
+)
+from .gait import ContactSchedule, SwingFootTrajectory, ctraj, jtraj
+from .generators import (
+    ComState,
+    GeneratorOutput,
+    Horizon,
+    PatternGenerator,
+    Rollout,
+    SolveInfo,
+    generator_names,
+    make_generator,
+    rollout,
+)
+from .generators.analytic import AnalyticGenerator
+from .generators.preview import PreviewGenerator
+from .generators.static import StaticGenerator
+from .metrics import support_margins
+from .models import LIPM, CartTable, SupportPolygon, foot_rectangle
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "AnalyticGenerator", "CartTable", "ComState", "ConfigurationError", "ContactSchedule",
+    "FootGeometry", "Footstep", "FootstepFileError", "FootstepPlan", "GeneratorNotFound",
+    "GeneratorOutput", "Horizon", "InfeasibleCommand", "InfeasibleStep", "LIPM", "LegLimits",
+    "MpcwalkError", "NoSolutionFound", "NotReset", "PathFollower", "PatternGenerator",
+    "PreviewGenerator", "ReachabilityRectangle", "Rollout", "Side", "SolveInfo",
+    "SolverNotFound", "StaticGenerator", "StepTiming", "SupportPolygon", "SwingFootTrajectory",
+    "VelocityCommand", "VelocityPlanner", "ctraj", "foot_rectangle", "generator_names", "jtraj",
+    "make_generator", "plan_from_path", "plan_from_velocity", "read_mdat", "rollout",
+    "support_margins", "write_mdat",
+]

@@ -1,0 +1,265 @@
+"""Velocity-driven footstep planner (paper M, sec. 3.1, eq. 5).
+
+The torso follows the omnidirectional (unicycle-like) model of paper M,
+
+    x_dot = vx cos(psi) - vy sin(psi),  y_dot = vx sin(psi) + vy cos(psi),  psi_dot = vyaw,
+
+sampled once per step (sample time ``T``). Step ``k`` puts the swing foot at
+the torso pose at the end of the step, offset sideways by the nominal half
+stance width; heuristics then keep each landing inside the leg's reach and
+outside the self-collision zone of the support foot (a rectangle of the
+support-foot frame, see :mod:`.reachability`). Landings aim at the model's
+torso poses, which are absolute, so a clamped landing delays one step but
+never makes the feet drift from the commanded path.
+"""
+
+from dataclasses import dataclass
+from typing import Optional, Sequence, Union
+
+import numpy as np
+
+from ..exceptions import ConfigurationError, InfeasibleCommand
+from .footstep import Footstep, FootstepPlan, Side, StepTiming, wrap_angle
+from .reachability import ReachabilityRectangle, opening_side
+
+
+@dataclass(frozen=True)
+class VelocityCommand:
+    """Walking velocity in the robot's local frame.
+
+    Attributes:
+        vx: Forward velocity, in [m/s].
+        vy: Lateral velocity (positive to the left), in [m/s].
+        vyaw: Yaw rate (positive counter-clockwise), in [rad/s].
+    """
+
+    vx: float = 0.0  # [m/s]
+    vy: float = 0.0  # [m/s]
+    vyaw: float = 0.0  # [rad/s]
+
+    def __post_init__(self) -> None:
+        for name in ("vx", "vy", "vyaw"):
+            value = getattr(self, name)
+            try:
+                value = float(value)
+            except (TypeError, ValueError):
+                raise ConfigurationError(f"Velocity command {name} must be a number, got {value!r}.") from None
+            if not np.isfinite(value):
+                raise ConfigurationError(
+                    f"Velocity command {name} must be finite, got {value!r}; send 0.0 to stand still."
+                )
+            object.__setattr__(self, name, value)
+
+
+@dataclass(frozen=True)
+class LegLimits:
+    """Per-step reach of the legs, in the support-foot frame.
+
+    Defaults fit the small servo humanoid of paper M (legs about 0.2 m long,
+    T = 0.5 s, so 0.1 m/s forward is 0.05 m per step). With T = 0.5 s they
+    admit commands up to vx in [-0.08, 0.16] m/s, |vy| <= 0.06 m/s and
+    |vyaw| <= 0.55 rad/s (31.5 deg/s); see :meth:`VelocityPlanner.check_command`.
+
+    Attributes:
+        max_step_forward: Landing ahead of the support foot, in [m]
+            (0.08 m: 0.16 m/s at T = 0.5 s, a stride of 0.16 m between
+            consecutive positions of the swing foot).
+        max_step_backward: Landing behind the support foot, in [m] (half of
+            forward: the knee bends one way).
+        max_step_lateral: Landing outward beyond the nominal stance, in [m]
+            (0.04 m: the hip-roll range of such robots).
+        max_step_yaw: Outward toe turn relative to the support foot, in [rad]
+            (0.35 rad, about 20 deg: the hip-yaw range).
+        max_step_yaw_inward: Inward toe turn, in [rad]. An inward turn swings
+            the toe towards the other foot by about ``length/2 * sin(yaw)``:
+            0.2 rad moves the toe of the 0.10 m foot 0.01 m, half of the 0.02 m
+            gap between 0.06 m wide soles at the minimum separation.
+        y_sep: Half of the minimum separation of the sole centres, in [m]
+            (paper M, Table 1: 0.04 m in simulation).
+        half_stance_width: Nominal lateral distance of each foot from the
+            torso, in [m].
+    """
+
+    max_step_forward: float = 0.08  # [m]
+    max_step_backward: float = 0.04  # [m]
+    max_step_lateral: float = 0.04  # [m]
+    max_step_yaw: float = 0.35  # [rad]
+    max_step_yaw_inward: float = 0.2  # [rad]
+    y_sep: float = 0.04  # [m]
+    half_stance_width: float = 0.05  # [m]
+
+    def __post_init__(self) -> None:
+        for name, value in vars(self).items():
+            if not np.isfinite(value) or value < 0.0:
+                raise ConfigurationError(f"LegLimits.{name} must be a non-negative number, got {value!r}.")
+        if not 0.0 < self.y_sep <= self.half_stance_width:
+            raise ConfigurationError(
+                f"LegLimits needs 0 < y_sep <= half_stance_width, got y_sep={self.y_sep:g} m and "
+                f"half_stance_width={self.half_stance_width:g} m; the nominal stance must respect "
+                "the minimum separation."
+            )
+
+    def rectangle(self) -> ReachabilityRectangle:
+        """The same limits as a reachability rectangle (LEFT swing over RIGHT support)."""
+        return ReachabilityRectangle(
+            x_min=-self.max_step_backward,
+            x_max=self.max_step_forward,
+            y_min=2.0 * self.y_sep,
+            y_max=2.0 * self.half_stance_width + self.max_step_lateral,
+            yaw_min=-self.max_step_yaw_inward,
+            yaw_max=self.max_step_yaw,
+        )
+
+
+def integrate_torso(command: VelocityCommand, start, nb_samples: int, sampling_period: float) -> np.ndarray:
+    """Torso poses of eq. 5 with the command held over each sample.
+
+    The model is integrated exactly over each sample (constant body-frame
+    velocity: an arc of a circle), which for a constant command is also
+    exact over the whole walk.
+
+    Args:
+        command: Velocity command, robot local frame.
+        start: Initial torso pose ``(x [m], y [m], yaw [rad])``.
+        nb_samples: Number of samples (steps).
+        sampling_period: Sample time ``T``, in [s].
+
+    Returns:
+        Torso poses ``(x, y, yaw)``, shape (nb_samples + 1, 3).
+    """
+    dyaw = command.vyaw * sampling_period
+    if abs(dyaw) > 1e-9:
+        sin_c, cos_c = np.sin(dyaw) / dyaw, (1.0 - np.cos(dyaw)) / dyaw
+    else:  # series of sin(a)/a and (1 - cos(a))/a
+        sin_c, cos_c = 1.0 - dyaw ** 2 / 6.0, dyaw / 2.0
+    local = sampling_period * np.array([command.vx * sin_c - command.vy * cos_c,
+                                        command.vx * cos_c + command.vy * sin_c])
+    poses = np.empty((nb_samples + 1, 3))
+    poses[0] = np.asarray(start, dtype=float)
+    for k in range(nb_samples):
+        c, s = np.cos(poses[k, 2]), np.sin(poses[k, 2])
+        poses[k + 1, :2] = poses[k, :2] + np.array([[c, -s], [s, c]]) @ local
+        poses[k + 1, 2] = poses[k, 2] + dyaw
+    return poses
+
+
+class VelocityPlanner:
+    """Footsteps that follow a velocity command (paper M, sec. 3.1).
+
+    Args:
+        limits: Per-step reach of the legs.
+        timing: Step duration ``T`` (the sample time of eq. 5) and phases.
+    """
+
+    def __init__(self, limits: LegLimits = LegLimits(), timing: StepTiming = StepTiming()) -> None:
+        self.limits = limits
+        self.timing = timing
+        self.rectangle = limits.rectangle()
+
+    def check_command(self, command: VelocityCommand) -> None:
+        """Raise InfeasibleCommand when the command exceeds the legs' reach.
+
+        In two consecutive steps each foot moves once and the torso twice,
+        so a foot moves ``2 v T`` per cycle: the sum of its landing offset
+        and of the other foot's. Forward, both offsets are bounded by
+        ``max_step_forward``: ``vx T <= max_step_forward`` (backward alike).
+        Sideways (and in yaw) one landing opens the stance and the next
+        closes it: ``2 |vy| T <= (2 h + max_step_lateral) - 2 y_sep`` with
+        ``h`` the half stance width, and ``2 |vyaw| T <= max_step_yaw +
+        max_step_yaw_inward``. Within these limits a clamped landing lags by
+        a constant amount that the next landing makes up; beyond them the
+        lag would grow every cycle, so the command is refused.
+        """
+        T, lim = self.timing.step_duration, self.limits
+        if command.vx > lim.max_step_forward / T or -command.vx > lim.max_step_backward / T:
+            bound = lim.max_step_forward if command.vx > 0.0 else lim.max_step_backward
+            raise InfeasibleCommand("vx", command.vx, bound / T, "m/s")
+        lateral_bound = (lim.half_stance_width - lim.y_sep + 0.5 * lim.max_step_lateral) / T
+        if abs(command.vy) > lateral_bound:
+            raise InfeasibleCommand("vy", command.vy, lateral_bound, "m/s")
+        yaw_bound = 0.5 * (lim.max_step_yaw + lim.max_step_yaw_inward) / T
+        if abs(command.vyaw) > yaw_bound:
+            raise InfeasibleCommand("vyaw", command.vyaw, yaw_bound, "rad/s")
+
+    def torso_poses(self, command: VelocityCommand, nb_steps: int, start=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """Torso poses of the model at the step boundaries, shape (nb_steps + 1, 3)."""
+        return integrate_torso(command, start, nb_steps, self.timing.step_duration)
+
+    def plan(self, command: Union[VelocityCommand, Sequence[float]], nb_steps: int, *,
+             initial_left: Optional[Footstep] = None, initial_right: Optional[Footstep] = None,
+             first_swing: Optional[Union[Side, str]] = None, stop: bool = True) -> FootstepPlan:
+        """Plan ``nb_steps`` steps at a constant command.
+
+        Args:
+            command: Velocity command (or ``(vx, vy, vyaw)``).
+            nb_steps: Steps that follow the command.
+            initial_left: Left foot at the start (default: side by side at
+                the origin, ``half_stance_width`` to the left).
+            initial_right: Right foot at the start.
+            first_swing: First foot to move. Default: the foot on the side
+                of the lateral velocity, else of the turn, else the right
+                foot, so that the first step opens the stance outward.
+            stop: Append one step that puts the swing foot side by side
+                with the last landing (the plan then has ``nb_steps + 1``
+                steps), so the walk ends in double support centred on the
+                last torso pose of the model (up to the lag of a clamped
+                last landing).
+
+        Returns:
+            The footstep plan with this planner's timing.
+
+        Raises:
+            InfeasibleCommand: The command exceeds the legs' reach.
+            ConfigurationError: NaN command, negative ``nb_steps``, bad side.
+        """
+        if not isinstance(command, VelocityCommand):
+            try:
+                values = np.asarray(command, dtype=float).ravel()
+            except (TypeError, ValueError):
+                values = np.empty(0)
+            if values.shape != (3,):
+                raise ConfigurationError(f"A velocity command is (vx, vy, vyaw), got {command!r}.")
+            command = VelocityCommand(*values)
+        if isinstance(nb_steps, bool) or not isinstance(nb_steps, (int, np.integer)) or nb_steps < 0:
+            raise ConfigurationError(f"nb_steps must be a non-negative integer, got {nb_steps!r}.")
+        self.check_command(command)
+        h = self.limits.half_stance_width
+        left = initial_left if initial_left is not None else Footstep(Side.LEFT, [0.0, h, 0.0])
+        right = initial_right if initial_right is not None else Footstep(Side.RIGHT, [0.0, -h, 0.0])
+        if left.side is not Side.LEFT or right.side is not Side.RIGHT:
+            raise ConfigurationError("initial_left must be a left Footstep and initial_right a right one.")
+        start_yaw = right.yaw + 0.5 * float(wrap_angle(left.yaw - right.yaw))
+        torso = self.torso_poses(command, nb_steps, [*(0.5 * (left.xy + right.xy)), start_yaw])
+        side = Side.parse(first_swing) if first_swing is not None else opening_side(command.vy, command.vyaw)
+        feet = {Side.LEFT: left, Side.RIGHT: right}
+        height = 0.5 * (left.position[2] + right.position[2])
+        steps = []
+        for k in range(nb_steps):
+            x, y, yaw = torso[k + 1]
+            offset = side.sign * h * np.array([-np.sin(yaw), np.cos(yaw)])
+            target = Footstep(side, [x + offset[0], y + offset[1], height], float(wrap_angle(yaw)))
+            feet[side] = self.rectangle.clamp_footstep(feet[side.other], target).footstep
+            steps.append(feet[side])
+            side = side.other
+        if stop and nb_steps > 0:
+            support = feet[side.other]
+            xy = support.to_world([0.0, side.sign * 2.0 * h])
+            steps.append(Footstep(side, [xy[0], xy[1], support.position[2]], support.yaw))
+        return FootstepPlan(left, right, steps, self.timing)
+
+
+def plan_from_velocity(vx: float, vy: float, vyaw: float, nb_steps: int, *,
+                       limits: LegLimits = LegLimits(), timing: StepTiming = StepTiming(),
+                       **options) -> FootstepPlan:
+    """One-call form of :meth:`VelocityPlanner.plan`.
+
+    Args:
+        vx: Forward velocity, in [m/s].
+        vy: Lateral velocity, in [m/s].
+        vyaw: Yaw rate, in [rad/s].
+        nb_steps: Steps that follow the command.
+        limits: Per-step reach of the legs.
+        timing: Step timing.
+        **options: ``initial_left``, ``initial_right``, ``first_swing``, ``stop``.
+    """
+    return VelocityPlanner(limits, timing).plan(VelocityCommand(vx, vy, vyaw), nb_steps, **options)

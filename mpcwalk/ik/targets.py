@@ -1,0 +1,218 @@
+"""Inputs and outputs of the whole-body IK: targets, task errors, result."""
+
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+import pinocchio as pin
+
+from ..exceptions import ConfigurationError
+
+_ROTATION_TOLERANCE = 1e-6
+
+
+def _frozen(array: np.ndarray) -> np.ndarray:
+    array = np.array(array, dtype=float)
+    array.setflags(write=False)
+    return array
+
+
+def _as_vector(value, size: int, name: str) -> np.ndarray:
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        array = np.full(0, np.nan)
+    if array.shape != (size,) or not np.all(np.isfinite(array)):
+        raise ConfigurationError(
+            f"IK target {name} must be an array of {size} finite numbers, got shape "
+            f"{np.shape(value)}; pass e.g. np.zeros({size})."
+        )
+    return _frozen(array)
+
+
+def _as_rotation(value, name: str) -> np.ndarray:
+    try:
+        rotation = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        rotation = np.full(0, np.nan)
+    if rotation.shape != (3, 3) or not np.all(np.isfinite(rotation)):
+        raise ConfigurationError(
+            f"IK target {name} must be a 3x3 rotation matrix, got shape {np.shape(value)}."
+        )
+    defect = np.abs(rotation.T @ rotation - np.eye(3)).max()
+    if defect > _ROTATION_TOLERANCE or np.linalg.det(rotation) < 0.0:
+        raise ConfigurationError(
+            f"IK target {name} is not a rotation matrix (|R^T R - I| = {defect:.1e}, det = "
+            f"{np.linalg.det(rotation):.3f}); orthonormalise it, e.g. with "
+            "pinocchio.exp3(pinocchio.log3(R))."
+        )
+    return _frozen(rotation)
+
+
+def _as_pose(value, name: str) -> pin.SE3:
+    if isinstance(value, pin.SE3):
+        value = value.homogeneous
+    try:
+        matrix = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        matrix = np.full(0, np.nan)
+    if matrix.shape != (4, 4) or not np.allclose(matrix[3], [0.0, 0.0, 0.0, 1.0]):
+        raise ConfigurationError(
+            f"IK target {name} must be a pinocchio.SE3 or a 4x4 homogeneous transform, got "
+            f"shape {np.shape(value)}."
+        )
+    rotation = _as_rotation(matrix[:3, :3], f"{name} rotation")
+    translation = _as_vector(matrix[:3, 3], 3, f"{name} translation")
+    return pin.SE3(np.array(rotation), np.array(translation))
+
+
+@dataclass(frozen=True)
+class IKTargets:
+    """References of one IK tick, world frame.
+
+    Give the references of the time the IK step should reach (the next tick) and no
+    velocities, or the references of the current time and their velocities: the IK step then
+    aims at their first-order prediction one period ahead (feed-forward).
+
+    Attributes:
+        com: CoM position, shape (3,), in [m].
+        left_sole: Pose of the left sole frame (``pinocchio.SE3``; a 4x4 transform is
+            converted).
+        right_sole: Pose of the right sole frame.
+        torso_rotation: Orientation of the torso frame, shape (3, 3) (upright: a yaw rotation).
+        com_velocity: CoM velocity, shape (3,), in [m/s], or None.
+        left_sole_velocity: Left sole velocity (linear [m/s], angular [rad/s], world axes),
+            shape (6,), or None.
+        right_sole_velocity: Right sole velocity, shape (6,), or None.
+        torso_angular_velocity: Torso angular velocity, shape (3,), in [rad/s], or None.
+
+    Raises:
+        ConfigurationError: A field has the wrong shape, is not finite or is not a rotation.
+    """
+
+    com: np.ndarray
+    left_sole: pin.SE3
+    right_sole: pin.SE3
+    torso_rotation: np.ndarray
+    com_velocity: Optional[np.ndarray] = None
+    left_sole_velocity: Optional[np.ndarray] = None
+    right_sole_velocity: Optional[np.ndarray] = None
+    torso_angular_velocity: Optional[np.ndarray] = None
+
+    def __post_init__(self) -> None:
+        set_field = object.__setattr__
+        set_field(self, "com", _as_vector(self.com, 3, "com"))
+        set_field(self, "left_sole", _as_pose(self.left_sole, "left_sole"))
+        set_field(self, "right_sole", _as_pose(self.right_sole, "right_sole"))
+        set_field(self, "torso_rotation", _as_rotation(self.torso_rotation, "torso_rotation"))
+        for name, size in (("com_velocity", 3), ("left_sole_velocity", 6),
+                           ("right_sole_velocity", 6), ("torso_angular_velocity", 3)):
+            value = getattr(self, name)
+            if value is not None:
+                set_field(self, name, _as_vector(value, size, name))
+
+    @property
+    def has_velocities(self) -> bool:
+        """True when at least one feed-forward velocity is given."""
+        return any(v is not None for v in (self.com_velocity, self.left_sole_velocity,
+                                           self.right_sole_velocity, self.torso_angular_velocity))
+
+    @staticmethod
+    def from_configuration(robot, q: np.ndarray, torso_frame: str = "") -> "IKTargets":
+        """Targets that ``q`` reaches exactly (CoM, soles and torso of ``robot`` at ``q``)."""
+        left, right = robot.compute_sole_placements(q)
+        torso = robot.compute_frame_placement(q, torso_frame or robot.torso_frame)
+        return IKTargets(robot.compute_com(q), left, right, torso.rotation)
+
+    @staticmethod
+    def from_gait(
+        com: np.ndarray,
+        feet,
+        torso_yaw: float,
+        *,
+        com_velocity: Optional[np.ndarray] = None,
+        torso_yaw_rate: Optional[float] = None,
+    ) -> "IKTargets":
+        """Targets from the gait: a CoM, a :class:`~mpcwalk.gait.swing_foot.FeetState` (flat
+        feet, with velocities) and the torso yaw [rad] (torso upright).
+
+        Feed-forward velocities of the feet are set from ``feet``; the torso's when
+        ``torso_yaw_rate`` [rad/s] is given.
+        """
+        c, s = np.cos(torso_yaw), np.sin(torso_yaw)
+        torso = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+        def velocity(foot) -> np.ndarray:
+            return np.concatenate([foot.linear_velocity, [0.0, 0.0, foot.yaw_rate]])
+
+        return IKTargets(
+            com=com, left_sole=feet.left.transform, right_sole=feet.right.transform,
+            torso_rotation=torso, com_velocity=com_velocity,
+            left_sole_velocity=velocity(feet.left), right_sole_velocity=velocity(feet.right),
+            torso_angular_velocity=None if torso_yaw_rate is None else [0.0, 0.0, torso_yaw_rate],
+        )
+
+
+@dataclass(frozen=True)
+class TaskErrors:
+    """Norms of the task errors at one configuration.
+
+    Attributes:
+        com: CoM position error, in [m].
+        left_sole_position: Left sole position error, in [m].
+        left_sole_orientation: Left sole orientation error (rotation angle), in [rad].
+        right_sole_position: Right sole position error, in [m].
+        right_sole_orientation: Right sole orientation error, in [rad].
+        torso_orientation: Torso orientation error, in [rad].
+        posture: Distance of the joint angles to the posture reference, in [rad].
+    """
+
+    com: float
+    left_sole_position: float
+    left_sole_orientation: float
+    right_sole_position: float
+    right_sole_orientation: float
+    torso_orientation: float
+    posture: float
+
+    @property
+    def position_max(self) -> float:
+        """Largest of the CoM and sole position errors, in [m]."""
+        return max(self.com, self.left_sole_position, self.right_sole_position)
+
+    @property
+    def orientation_max(self) -> float:
+        """Largest of the sole and torso orientation errors, in [rad]."""
+        return max(self.left_sole_orientation, self.right_sole_orientation,
+                   self.torso_orientation)
+
+
+@dataclass(frozen=True)
+class IKResult:
+    """Result of one IK step (:meth:`WholeBodyIK.solve`) or of a whole solve
+    (:meth:`WholeBodyIK.solve_pose`).
+
+    Attributes:
+        q_next: Configuration after the step(s), shape (nq,).
+        v: Velocity of the step, ``difference(q, q_next) / dt``, shape (nv,), in [m/s, rad/s]
+            (base linear velocity in the base frame, as Pinocchio).
+        task_errors: Errors at the input configuration for :meth:`~WholeBodyIK.solve` (what
+            the step corrects), at ``q_next`` for :meth:`~WholeBodyIK.solve_pose`.
+        solve_time: Wall time of the call, in [s].
+        success: False when the QP failed and a fallback was used, or when ``solve_pose``
+            did not reach its tolerance.
+        status: ``"unconstrained"`` (damped least squares within the bounds), ``"qp"``,
+            ``"fallback"`` (QP failed: least squares clipped to the bounds), ``"kept"`` (no
+            finite step: q kept), ``"converged"`` / ``"max_iterations"`` (``solve_pose``).
+        iterations: Number of steps taken.
+        qp_solves: Number of steps that needed the QP.
+    """
+
+    q_next: np.ndarray
+    v: np.ndarray
+    task_errors: TaskErrors
+    solve_time: float
+    success: bool
+    status: str
+    iterations: int = 1
+    qp_solves: int = 0

@@ -1,0 +1,342 @@
+"""Condensed and sparse layouts of the walking QP (pure construction).
+
+Both layouts describe the same problem (Wieber 2006) in the OSQP form::
+
+    minimize    1/2 x^T P x + q^T x
+    subject to  l <= A x <= u
+
+where the rows of ``A`` are the dynamics equalities (sparse layout only,
+``l = u``) followed by the inequalities, in groups of ``MAX_POLYGON_EDGES``
+rows (one support polygon each): ZMP at each sample, optionally the CoM
+projection at each sample, the terminal DCM, and the ZMP (and CoM) at the
+next control tick ``t + control_period`` (the state the generator outputs,
+which lies between the QP's samples). A layout owns the sparsity
+patterns (fixed once built) and computes values in coordinate order;
+:class:`~mpcwalk.qp.walking_qp.WalkingQP` decides when to recompute them.
+
+The cost is multiplied by a constant ``cost_scale`` chosen at construction
+so that the largest diagonal entry of ``P`` is 1. This does not move the
+minimiser and keeps absolute solver tolerances meaningful.
+"""
+
+from dataclasses import dataclass
+from typing import List, Optional, Tuple
+
+import numpy as np
+
+from ..gait.contact_schedule import MAX_POLYGON_EDGES
+from ..models.cart_table import CartTable
+from .fixed_pattern import FixedPattern, stack_patterns
+from .parameters import MpcParameters
+
+E = MAX_POLYGON_EDGES
+#: (start, shape, sample axis) of a block of a primal or dual vector.
+Block = Tuple[int, Tuple[int, ...], Optional[int]]
+
+
+@dataclass(frozen=True)
+class SupportSequence:
+    """Half-planes ``A p <= b`` used by the inequality rows.
+
+    Attributes:
+        zmp_A: ZMP polygon normals at the samples, shape (N, E, 2).
+        zmp_b: Offsets, shape (N, E), in [m]. The last sample's polygon also
+            bounds the terminal DCM.
+        com_A: CoM polygon normals at the samples, shape (N, E, 2).
+        com_b: Offsets, shape (N, E), in [m].
+        tick_A: Polygon normals at the next control tick, shape (E, 2).
+        tick_b: Offsets, shape (E,), in [m].
+    """
+
+    zmp_A: np.ndarray
+    zmp_b: np.ndarray
+    com_A: np.ndarray
+    com_b: np.ndarray
+    tick_A: np.ndarray
+    tick_b: np.ndarray
+
+    @staticmethod
+    def empty(N: int) -> "SupportSequence":
+        """Placeholder of the right shapes (all zeros)."""
+        A, b = np.zeros((N, E, 2)), np.zeros((N, E))
+        return SupportSequence(A, b, A, b, A[0], b[0])
+
+
+class _Layout:
+    """Shared parts of both layouts.
+
+    Args:
+        model: Cart-table model at the sampling period.
+        parameters: Horizon, weights, margins.
+        control_period: When given (and constraints are on), also constrain
+            the state at ``t + control_period``, in [s].
+    """
+
+    def __init__(self, model: CartTable, parameters: MpcParameters,
+                 control_period: Optional[float] = None) -> None:
+        self.parameters = p = parameters
+        self.N = N = parameters.horizon
+        self.omega = model.lipm.omega
+        self.model = model
+        pm = model.prediction_matrices(N)
+        self.Pps, self.Ppu = pm["Pps"], pm["Ppu"]
+        self.Pvs, self.Pvu = pm["Pvs"], pm["Pvu"]
+        self.Pas, self.Pau = pm["Pas"], pm["Pau"]
+        self.Pzs, self.Pzu = pm["Pzs"], pm["Pzu"]
+        self.Pxs = self.Pps + self.Pvs / self.omega  # DCM
+        self.Pxu = self.Ppu + self.Pvu / self.omega
+        self.C = model.C
+        tick = control_period is not None and p.constrained
+        if tick:
+            A_dt, B_dt = CartTable.transition(control_period)
+            # (row acting on x0, coefficient of the first jerk) per tick row.
+            self._tick = {"zmp_tick": (self.C @ A_dt, self.C @ B_dt),
+                          "com_tick": (A_dt[0], B_dt[0])}
+        # (kind, number of polygons): E rows per polygon.
+        self.groups: List[Tuple[str, int]] = []
+        if p.constrained:
+            self.groups.append(("zmp", N))
+        if p.constrain_com:
+            self.groups.append(("com", N))
+        if p.constrained and p.terminal_dcm:
+            self.groups.append(("dcm", 1))
+        if tick:
+            self.groups.append(("zmp_tick", 1))
+            if p.constrain_com:
+                self.groups.append(("com_tick", 1))
+        self.m_ineq = E * sum(nb for _, nb in self.groups)
+        self.has_tick = tick
+
+    def _finish(self, n: int, m_eq: int, P_coords, eq_coords) -> None:
+        self.n, self.m_eq = n, m_eq
+        self.m = m_eq + self.m_ineq
+        blocks, row = list(eq_coords), m_eq
+        for kind, nb in self.groups:
+            rows, cols = self._entries(kind) if not kind.endswith("tick") else self._tick_entries()
+            blocks.append((row + rows, cols))
+            row += E * nb
+        self.P_pattern = FixedPattern(*P_coords, (n, n))
+        self.A_pattern = FixedPattern(*stack_patterns(blocks), (self.m, n))
+        nominal = np.full(self.N, self.parameters.com_weight)
+        self.cost_scale = 1.0
+        values = self.P_values(nominal)
+        on_diagonal = self.P_pattern.rows == self.P_pattern.cols
+        self.cost_scale = 1.0 / np.max(np.abs(values[on_diagonal]))
+        self.dual_blocks: List[Block] = list(self._eq_dual_blocks)
+        row = m_eq
+        for kind, nb in self.groups:
+            per_sample = kind in ("zmp", "com")
+            self.dual_blocks.append((row, (nb, E), 0 if per_sample else None))
+            row += E * nb
+
+    def _tick_entries(self):
+        """Tick rows involve the first jerk of each axis (column ``a N``) only."""
+        rows = np.broadcast_to(np.arange(E).reshape(E, 1), (E, 2))
+        return rows, np.broadcast_to(np.arange(2) * self.N, (E, 2))
+
+    def A_values(self, seq: SupportSequence) -> np.ndarray:
+        """Constraint matrix values in coordinate order."""
+        parts = [self._eq_values]
+        for kind, _ in self.groups:
+            if kind.endswith("tick"):
+                parts.append((seq.tick_A * self._tick[kind][1]).ravel())
+            else:
+                parts.append(self._values(kind, seq.com_A if kind == "com" else seq.zmp_A).ravel())
+        return np.concatenate(parts)
+
+    def upper_bounds(self, x0: np.ndarray, seq: SupportSequence) -> np.ndarray:
+        """Right-hand sides ``u`` of the inequality rows (``l = -inf``)."""
+        p, parts = self.parameters, []
+        for kind, _ in self.groups:
+            margin = p.com_margin if kind.startswith("com") else p.zmp_margin
+            if kind.endswith("tick"):
+                free = self._tick[kind][0] @ x0
+                parts.append(seq.tick_b - margin - seq.tick_A @ free)
+            elif kind == "dcm":
+                parts.append(seq.zmp_b[-1] - margin - seq.zmp_A[-1] @ self._free(kind, x0))
+            else:
+                A, b = (seq.com_A, seq.com_b) if kind == "com" else (seq.zmp_A, seq.zmp_b)
+                free = self._free(kind, x0)
+                parts.append((b - margin - np.einsum("ira,ia->ir", A, free)).ravel())
+        return np.concatenate(parts) if parts else np.zeros(0)
+
+    def shift(self, vector: np.ndarray, which: str, samples: float) -> np.ndarray:
+        """Shift the per-sample blocks of a primal (``which="primal"``) or dual
+        (``"dual"``) vector by ``samples`` sampling periods: linear
+        interpolation, last sample held; other entries are copied. The
+        gather indices are cached per shift value."""
+        key = (which, round(float(samples), 9))
+        cache = self.__dict__.setdefault("_shift_cache", {})
+        if key not in cache:
+            blocks = self.primal_blocks if which == "primal" else self.dual_blocks
+            size = self.n if which == "primal" else self.m
+            cache[key] = _shift_gather(blocks, size, samples, self.N)
+        i0, i1, w = cache[key]
+        return (1.0 - w) * vector[i0] + w * vector[i1]
+
+
+def _shift_gather(blocks: List[Block], size: int, samples: float, N: int):
+    """Index arrays ``(i0, i1, w)`` with ``shifted = (1 - w) v[i0] + w v[i1]``."""
+    i0, i1, w = np.arange(size), np.arange(size), np.zeros(size)
+    pos = np.arange(N) + samples
+    base = np.floor(pos)
+    s0 = np.clip(base.astype(int), 0, N - 1)
+    s1 = np.clip(s0 + 1, 0, N - 1)
+    frac = np.where(base >= N - 1, 0.0, np.clip(pos - base, 0.0, 1.0))
+    for start, shape, axis in blocks:
+        if axis is None:
+            continue
+        index = np.moveaxis(np.arange(int(np.prod(shape))).reshape(shape), axis, 0)
+        dst = start + index
+        i0[dst] = start + index[s0]
+        i1[dst] = start + index[s1]
+        w[dst] = frac.reshape((N,) + (1,) * (index.ndim - 1))
+    return i0, i1, w
+
+
+class CondensedLayout(_Layout):
+    """Decision variables: the jerks only, ``x = [U_x (N), U_y (N)]``."""
+
+    formulation = "dense"
+
+    def __init__(self, model: CartTable, parameters: MpcParameters,
+                 control_period: Optional[float] = None) -> None:
+        super().__init__(model, parameters, control_period)
+        N = self.N
+        ii, jj = np.meshgrid(np.arange(N), np.arange(N), indexing="ij")
+        axis = np.arange(2).reshape(2, 1, 1)
+        P_coords = ((axis * N + ii).ravel(), (axis * N + jj).ravel())
+        self._ti, self._tj = np.tril_indices(N)
+        self._eq_values = np.zeros(0)
+        self._eq_dual_blocks: List[Block] = []
+        self._finish(2 * N, 0, P_coords, [])
+        self.primal_blocks: List[Block] = [(0, (2, N), 1)]
+
+    def _entries(self, kind: str):
+        N, E_ = self.N, np.arange(E).reshape(1, E, 1, 1)
+        a = np.arange(2).reshape(1, 1, 2, 1)
+        if kind == "dcm":  # (E, 2, N): last sample, every jerk
+            shape = (1, E, 2, N)
+            return np.broadcast_to(E_, shape), np.broadcast_to(a * N + np.arange(N), shape)
+        # (pair, E, 2): sample ti depends on jerk tj <= ti.
+        ti, tj = self._ti.reshape(-1, 1, 1, 1), self._tj.reshape(-1, 1, 1, 1)
+        shape = (len(self._ti), E, 2, 1)
+        return np.broadcast_to(ti * E + E_, shape), np.broadcast_to(a * N + tj, shape)
+
+    def _values(self, kind: str, Ahp: np.ndarray) -> np.ndarray:
+        ti, tj = self._ti, self._tj
+        if kind == "dcm":
+            return Ahp[-1][:, :, None] * self.Pxu[-1][None, None, :]
+        matrix = self.Pzu if kind == "zmp" else self.Ppu
+        return Ahp[ti] * matrix[ti, tj][:, None, None]
+
+    def _free(self, kind: str, x0: np.ndarray) -> np.ndarray:
+        if kind == "dcm":
+            return self.Pxs[-1] @ x0
+        return (self.Pzs if kind == "zmp" else self.Pps) @ x0
+
+    def P_values(self, com_weights: np.ndarray) -> np.ndarray:
+        p, s = self.parameters, 2.0 * self.cost_scale
+        H = p.zmp_weight * self.Pzu.T @ self.Pzu + p.jerk_weight * np.eye(self.N)
+        if p.velocity_weight:
+            H += p.velocity_weight * self.Pvu.T @ self.Pvu
+        if np.any(com_weights):
+            H += self.Ppu.T @ (com_weights[:, None] * self.Ppu)
+        H = 0.5 * s * (H + H.T)  # exactly symmetric despite round-off
+        return np.concatenate([H.ravel()] * 2)
+
+    def q(self, x0, zmp_ref, velocity_ref, com_ref, com_weights) -> np.ndarray:
+        p, s = self.parameters, 2.0 * self.cost_scale
+        g = p.zmp_weight * self.Pzu.T @ (self.Pzs @ x0 - zmp_ref)
+        if p.velocity_weight:
+            g += p.velocity_weight * self.Pvu.T @ (self.Pvs @ x0 - velocity_ref)
+        if np.any(com_weights):
+            g += self.Ppu.T @ (com_weights[:, None] * (self.Pps @ x0 - com_ref))
+        return s * g.T.ravel()
+
+    def bounds(self, x0, seq: SupportSequence) -> Tuple[np.ndarray, np.ndarray]:
+        return np.full(self.m, -np.inf), self.upper_bounds(x0, seq)
+
+
+class SparseLayout(_Layout):
+    """Decision variables: jerks and states, ``x = [U_x, U_y, X_x, X_y]``
+    with ``X_a`` the states ``[c, c_dot, c_ddot]`` at samples 1..N (3N
+    values per axis); the dynamics are equality rows."""
+
+    formulation = "sparse"
+
+    def __init__(self, model: CartTable, parameters: MpcParameters,
+                 control_period: Optional[float] = None) -> None:
+        super().__init__(model, parameters, control_period)
+        N = self.N
+        a = np.arange(2).reshape(2, 1, 1)
+        i = np.arange(N).reshape(1, N, 1)
+        k = np.arange(3).reshape(1, 1, 3)
+        X = self._X
+        eq_row = a * 3 * N + 3 * i + k  # (2, N, 3)
+        Ak, Am = np.nonzero(model.A)
+        ident = (eq_row, X(a, i, k))
+        ra = a[..., None] * 3 * N + 3 * i[:, 1:, :, None] + Ak.reshape(1, 1, -1, 1)
+        transition = (ra, X(a[..., None], i[:, :-1, :, None], Am.reshape(1, 1, -1, 1)))
+        inp = (eq_row, np.broadcast_to(a * N + i, eq_row.shape))
+        self._eq_values = np.concatenate([
+            np.ones(6 * N), np.tile(-model.A[Ak, Am], 2 * (N - 1)), np.tile(-model.B, 2 * N),
+        ])
+        self._eq_dual_blocks: List[Block] = [(0, (2, N, 3), 1)]
+        # Cost: jerk diagonal, then a full 3x3 block per (axis, sample).
+        u_idx = np.arange(2 * N)
+        km = np.arange(3)
+        P_rows = X(a[..., None], i[..., None], km.reshape(1, 1, 3, 1))
+        P_cols = X(a[..., None], i[..., None], km.reshape(1, 1, 1, 3))
+        P_coords = stack_patterns([(u_idx, u_idx), (P_rows + 0 * P_cols, P_cols + 0 * P_rows)])
+        self._finish(8 * N, 6 * N, P_coords, [ident, transition, inp])
+        self.primal_blocks: List[Block] = [(0, (2, N), 1), (2 * N, (2, N, 3), 1)]
+
+    def _X(self, a, i, k):
+        """Column of state component ``k`` of axis ``a`` at sample ``i + 1``."""
+        return 2 * self.N + a * 3 * self.N + 3 * i + k
+
+    def _entries(self, kind: str):
+        N = self.N
+        a, r = np.arange(2).reshape(1, 1, 2, 1), np.arange(E).reshape(1, E, 1, 1)
+        i = np.arange(N).reshape(N, 1, 1, 1)
+        if kind == "dcm":  # (E, 2, 2): position and velocity at the last sample
+            cols = self._X(a, N - 1, np.array([0, 1])) + 0 * r
+            return np.broadcast_to(r, cols.shape), cols
+        comps = np.array([0, 2]) if kind == "zmp" else np.array([0])
+        cols = self._X(a, i, comps) + 0 * r
+        return np.broadcast_to(i * E + r, cols.shape), cols
+
+    def _values(self, kind: str, Ahp: np.ndarray) -> np.ndarray:
+        if kind == "dcm":
+            return Ahp[-1][..., None] * np.array([1.0, 1.0 / self.omega])
+        if kind == "zmp":
+            return Ahp[..., None] * self.C[[0, 2]]
+        return Ahp
+
+    def _free(self, kind: str, x0: np.ndarray) -> np.ndarray:
+        return np.zeros(2) if kind == "dcm" else np.zeros((self.N, 2))
+
+    def P_values(self, com_weights: np.ndarray) -> np.ndarray:
+        p, s, N = self.parameters, 2.0 * self.cost_scale, self.N
+        block = p.zmp_weight * np.outer(self.C, self.C)
+        block[1, 1] += p.velocity_weight
+        blocks = np.broadcast_to(block, (2, N, 3, 3)).copy()
+        blocks[:, :, 0, 0] += com_weights[None, :]
+        return s * np.concatenate([np.full(2 * N, p.jerk_weight), blocks.ravel()])
+
+    def q(self, x0, zmp_ref, velocity_ref, com_ref, com_weights) -> np.ndarray:
+        p, s, N = self.parameters, 2.0 * self.cost_scale, self.N
+        gx = -p.zmp_weight * zmp_ref.T[..., None] * self.C
+        if p.velocity_weight:
+            gx[:, :, 1] -= p.velocity_weight * velocity_ref.T
+        gx[:, :, 0] -= com_weights[None, :] * com_ref.T
+        return s * np.concatenate([np.zeros(2 * N), gx.ravel()])
+
+    def bounds(self, x0, seq: SupportSequence) -> Tuple[np.ndarray, np.ndarray]:
+        eq = np.zeros((2, self.N, 3))
+        eq[:, 0, :] = (self.model.A @ x0).T
+        eq = eq.ravel()
+        u_ineq = self.upper_bounds(x0, seq)
+        return (np.concatenate([eq, np.full(self.m_ineq, -np.inf)]),
+                np.concatenate([eq, u_ineq]))

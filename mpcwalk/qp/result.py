@@ -1,0 +1,72 @@
+"""Common result of every QP back-end, and KKT residuals in OSQP form."""
+
+from dataclasses import dataclass
+from typing import Optional, Tuple
+
+import numpy as np
+import scipy.sparse as sp
+
+
+@dataclass(frozen=True)
+class QPResult:
+    """What one QP solve returned.
+
+    Attributes:
+        x: Primal solution, shape (n,), or None when the solver gave none.
+        y: Dual solution in OSQP form (one per row of ``A``: equalities then
+            inequalities; positive when an upper bound is active), or None.
+        success: Whether the back-end reports an optimal solution.
+        status: The back-end's own status, as a string.
+        solve_time: Wall time of the back-end call (matrix/vector updates
+            included), in [s].
+        iterations: Iterations reported by the back-end, None if unknown.
+        primal_residual: ``max`` constraint violation, in the units of the
+            constraints ([m] for ZMP/CoM rows); inf without a solution.
+        dual_residual: ``||P x + q + A^T y||_inf``; None if no dual is known.
+        duality_gap: ``|x^T P x + q^T x + u^T y+ - l^T y-|``; None if unknown.
+        solver: Back-end name as given to :func:`make_solver`.
+    """
+
+    x: Optional[np.ndarray]
+    y: Optional[np.ndarray]
+    success: bool
+    status: str
+    solve_time: float
+    iterations: Optional[int]
+    primal_residual: float
+    dual_residual: Optional[float]
+    duality_gap: Optional[float]
+    solver: str
+
+
+def kkt_residuals(
+    P: sp.spmatrix, q: np.ndarray, A: sp.spmatrix, l: np.ndarray, u: np.ndarray,
+    x: np.ndarray, y: Optional[np.ndarray],
+) -> Tuple[float, Optional[float], Optional[float]]:
+    """Primal residual, dual residual and duality gap of ``(x, y)`` for
+    ``min 1/2 x'Px + q'x  s.t.  l <= Ax <= u`` (OSQP sign convention).
+
+    Args:
+        P: Full symmetric cost matrix, shape (n, n).
+        q: Shape (n,).
+        A: Shape (m, n).
+        l, u: Shape (m,); infinite entries allowed.
+        x: Primal point, shape (n,).
+        y: Dual point, shape (m,), or None.
+
+    Returns:
+        ``(primal_residual, dual_residual, duality_gap)``; the last two are
+        None when ``y`` is None.
+    """
+    Ax = A @ x
+    primal = 0.0
+    if len(Ax):
+        primal = float(max(0.0, np.max(Ax - u), np.max(l - Ax)))
+    if y is None:
+        return primal, None, None
+    Px = P @ x
+    dual = float(np.linalg.norm(Px + q + A.T @ y, np.inf)) if len(x) else 0.0
+    upper = np.where(np.isfinite(u), u, 0.0) @ np.maximum(y, 0.0)
+    lower = np.where(np.isfinite(l), l, 0.0) @ np.minimum(y, 0.0)
+    gap = float(abs(x @ Px + q @ x + upper + lower))
+    return primal, dual, gap

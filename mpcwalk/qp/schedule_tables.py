@@ -1,0 +1,82 @@
+"""Per-phase tables of a contact schedule, for fast per-tick lookups."""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..gait.contact_schedule import MAX_POLYGON_EDGES, ContactSchedule
+
+
+@dataclass(frozen=True)
+class ScheduleTables:
+    """What the walking QP reads from a schedule, one row per phase.
+
+    Attributes:
+        polygon_id: Shape (nb_phases,); phases with the same support polygon
+            (the double support closing step k and the one opening step
+            k + 1) share an id, so the QP matrix is not rebuilt between them.
+        A: Padded half-plane normals, shape (nb_phases, E, 2).
+        b: Offsets, shape (nb_phases, E), in [m].
+        single: Single support, shape (nb_phases,).
+        centers: Support centre (support foot, or midpoint of the feet),
+            shape (nb_phases, 2), in [m].
+        knots: Breakpoints of the ZMP reference, shape (k,), in [s].
+        zmp_knots: ZMP reference at the knots, shape (k, 2), in [m].
+        next_single: First single-support phase at or after each phase
+            (``nb_phases`` if none), shape (nb_phases,).
+    """
+
+    polygon_id: np.ndarray
+    A: np.ndarray
+    b: np.ndarray
+    single: np.ndarray
+    centers: np.ndarray
+    knots: np.ndarray
+    zmp_knots: np.ndarray
+    next_single: np.ndarray
+
+    @staticmethod
+    def from_schedule(schedule: ContactSchedule) -> "ScheduleTables":
+        """Tables of ``schedule`` (one pass over its phases)."""
+        phases = schedule.phases
+        planes = [ph.polygon.padded_halfplanes(MAX_POLYGON_EDGES) for ph in phases]
+        A = np.array([p[0] for p in planes])
+        b = np.array([p[1] for p in planes])
+        polygon_id = np.arange(len(phases))
+        for i in range(1, len(phases)):
+            if np.array_equal(A[i], A[i - 1]) and np.array_equal(b[i], b[i - 1]):
+                polygon_id[i] = polygon_id[i - 1]
+        single = np.array([ph.single_support for ph in phases])
+        centers = schedule.phase_centers
+        # Paper M's ZMP reference is piecewise linear: the schedule tabulates
+        # it at its breakpoints; interpolate every tick.
+        knots = schedule.zmp_breakpoints
+        next_single = np.full(len(phases) + 1, len(phases))
+        for i in range(len(phases) - 1, -1, -1):
+            next_single[i] = i if single[i] else next_single[i + 1]
+        return ScheduleTables(polygon_id, A, b, single, centers, knots,
+                              schedule.zmp_reference(knots), next_single[:-1])
+
+    def com_phases(self, start: np.ndarray, end: np.ndarray) -> np.ndarray:
+        """Phase whose polygon bounds the CoM at each sample.
+
+        It is the first single-support phase met during the sampling period
+        that follows the sample (phases ``start..end``), if any, else the
+        phase at the sample. The foot of a single support lies inside the
+        neighbouring double-support hulls, so the CoM is over it before single
+        support begins, wherever the samples fall relative to the boundary;
+        without this, a sliding sample grid finds the CoM "just in time" one
+        tick and infeasible the next.
+
+        Args:
+            start: Phase index at each sample, shape (N,).
+            end: Phase index one sampling period later, shape (N,).
+        """
+        first = self.next_single[start]
+        return np.where(first <= end, first, start)
+
+    def zmp_reference(self, times: np.ndarray) -> np.ndarray:
+        """Same values as ``ContactSchedule.zmp_reference``, by interpolation;
+        shape (n, 2), in [m]."""
+        return np.stack([np.interp(times, self.knots, self.zmp_knots[:, 0]),
+                         np.interp(times, self.knots, self.zmp_knots[:, 1])], axis=1)

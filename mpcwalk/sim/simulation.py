@@ -1,0 +1,276 @@
+"""MuJoCo simulation of one robot: position servos, sensors, contacts, CoP, pushes."""
+
+import copy
+import math
+from dataclasses import dataclass
+from typing import Iterable, List, Optional, Tuple
+
+import mujoco
+import numpy as np
+
+from ..exceptions import ConfigurationError, MpcwalkError
+from ..robots import Robot
+from .contacts import ContactEstimator
+from .disturbances import ExternalForce, resolve_body
+from .measurements import ImuReading, Measurements, SimState, frozen_array, quaternion_to_rpy
+
+_UNSTABLE_WARNINGS = (
+    mujoco.mjtWarning.mjWARN_BADQACC,
+    mujoco.mjtWarning.mjWARN_BADQPOS,
+    mujoco.mjtWarning.mjWARN_BADQVEL,
+)
+
+
+class SimulationUnstable(MpcwalkError, RuntimeError):
+    """MuJoCo's integration diverged (non-finite or huge accelerations)."""
+
+    def __init__(self, time: float, timestep: float) -> None:
+        self.time = time
+        super().__init__(
+            f"The MuJoCo simulation diverged at t = {time:.3f} s (bad accelerations, positions "
+            f"or velocities); lower the physics time step (now {timestep:g} s) or the actuator "
+            "gains, or check the joint targets for jumps."
+        )
+
+
+@dataclass(frozen=True)
+class SensorNoise:
+    """Standard deviations of the zero-mean Gaussian noise added to the sensor readings.
+
+    Attributes:
+        gyro_std: Gyroscope noise [rad/s].
+        accelerometer_std: Accelerometer noise [m/s^2].
+        encoder_std: Joint encoder noise [rad].
+    """
+
+    gyro_std: float = 0.0
+    accelerometer_std: float = 0.0
+    encoder_std: float = 0.0
+
+
+class Simulation:
+    """One robot on a flat floor in MuJoCo, driven by position actuators.
+
+    The simulation owns a copy of ``robot.mj_model`` (changing its time step leaves the
+    robot's model alone). Each :meth:`step` holds the joint targets during one control period
+    of ``control_period / timestep`` physics steps and applies the external forces active at
+    each physics step.
+
+    Args:
+        robot: The robot (from :func:`mpcwalk.robots.load_robot`).
+        timestep: Physics time step [s]; None keeps the robot's.
+        control_period: Duration of one :meth:`step` [s], a multiple of ``timestep``.
+        seed: Seed of the sensor-noise generator.
+        disturbances: External forces applied during their windows.
+        sensor_noise: Noise added to the IMU and encoder readings (none by default).
+        contact_threshold: Vertical force [N] above which a foot is in contact; None for 1 %
+            of the robot's weight.
+
+    Raises:
+        ConfigurationError: Non-positive periods, or a control period that is not a
+            multiple of the time step.
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        *,
+        timestep: Optional[float] = None,
+        control_period: float = 0.01,
+        seed: Optional[int] = None,
+        disturbances: Iterable[ExternalForce] = (),
+        sensor_noise: SensorNoise = SensorNoise(),
+        contact_threshold: Optional[float] = None,
+    ) -> None:
+        self.robot = robot
+        self.model: mujoco.MjModel = copy.copy(robot.mj_model)
+        if timestep is not None:
+            if not (math.isfinite(timestep) and timestep > 0.0):
+                raise ConfigurationError(f"timestep must be > 0 s, got {timestep!r}.")
+            self.model.opt.timestep = float(timestep)
+        self.timestep = float(self.model.opt.timestep)
+        if not (math.isfinite(control_period) and control_period > 0.0):
+            raise ConfigurationError(f"control_period must be > 0 s, got {control_period!r}.")
+        nb_substeps = round(control_period / self.timestep)
+        if nb_substeps < 1 or abs(nb_substeps * self.timestep - control_period) > 1e-9:
+            raise ConfigurationError(
+                f"control_period = {control_period:g} s is not a multiple of the physics time "
+                f"step {self.timestep:g} s; choose e.g. {max(nb_substeps, 1) * self.timestep:g} s."
+            )
+        self.control_period = float(control_period)
+        self.nb_substeps = int(nb_substeps)
+        self.data = mujoco.MjData(self.model)
+        self.rng = np.random.default_rng(seed)
+        self.sensor_noise = sensor_noise
+        weight = robot.total_mass * float(np.linalg.norm(self.model.opt.gravity))
+        self.contacts = ContactEstimator(
+            self.model, robot.foot_frames,
+            contact_threshold=0.01 * weight if contact_threshold is None else contact_threshold,
+        )
+        self.root_body = int(self.model.jnt_bodyid[0])
+        self._sensor = {
+            name: slice(self.model.sensor(name).adr[0],
+                        self.model.sensor(name).adr[0] + self.model.sensor(name).dim[0])
+            for name in ("imu_gyro", "imu_accelerometer", "imu_orientation")
+        }
+        self._disturbances: List[Tuple[ExternalForce, int]] = []
+        for disturbance in disturbances:
+            self.add_disturbance(disturbance)
+        self._substep = 0
+        self._state: Optional[SimState] = None
+        self.reset()
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s] since the last :meth:`reset` (after settling)."""
+        return self._substep * self.timestep
+
+    @property
+    def disturbances(self) -> Tuple[ExternalForce, ...]:
+        """External forces of this simulation."""
+        return tuple(force for force, _ in self._disturbances)
+
+    def add_disturbance(self, disturbance: ExternalForce) -> None:
+        """Add an external force; raises ConfigurationError if its body does not exist."""
+        body_id = resolve_body(self.model, disturbance.body, self.robot.torso_frame)
+        self._disturbances.append((disturbance, body_id))
+
+    def reset(
+        self, q: Optional[np.ndarray] = None, *, v: Optional[np.ndarray] = None,
+        settle: float = 0.0,
+    ) -> SimState:
+        """Put the robot at ``q`` (Pinocchio configuration, default ``robot.q0``) at rest.
+
+        Args:
+            q: Configuration; the actuators hold its joint angles.
+            v: Velocity (Pinocchio convention); None for zero.
+            settle: Simulate this long [s] holding ``q`` first (the robot sinks into its
+                contacts); the clock then restarts at 0.
+
+        Returns:
+            The state at time 0.
+        """
+        q = self.robot.q0 if q is None else np.asarray(q, dtype=float)
+        if q.shape != (self.robot.model.nq,) or not np.all(np.isfinite(q)):
+            raise ConfigurationError(
+                f"reset expects a finite configuration of size nq = {self.robot.model.nq}, got "
+                f"shape {q.shape}."
+            )
+        mujoco.mj_resetData(self.model, self.data)
+        self.data.qpos[:] = self.robot.q_to_qpos(q)
+        if v is not None:
+            self.data.qvel[:] = self.robot.v_to_qvel(q, np.asarray(v, dtype=float))
+        self.data.ctrl[:] = self.robot.q_to_ctrl(q)
+        nb_settle = round(settle / self.timestep)
+        if nb_settle > 0:
+            mujoco.mj_step(self.model, self.data, nb_settle)
+            self._check_stable(-settle)
+        self.data.time = 0.0
+        self._substep = 0
+        self._state = None
+        return self.state()
+
+    def step(self, joint_targets: Optional[np.ndarray] = None) -> SimState:
+        """Simulate one control period holding the joint targets.
+
+        Args:
+            joint_targets: Joint angles [rad] in Pinocchio order (``robot.joint_names``,
+                size nq - 7), or a full configuration (size nq) whose joint angles are used;
+                None keeps the previous targets.
+
+        Returns:
+            The state at the end of the period.
+
+        Raises:
+            ConfigurationError: Targets of the wrong size or not finite.
+            SimulationUnstable: MuJoCo's integration diverged (MuJoCo has then reset its
+                data; call :meth:`reset` before stepping again).
+        """
+        if joint_targets is not None:
+            self.data.ctrl[:] = self._ctrl_of(joint_targets)
+        if not self._disturbances:
+            mujoco.mj_step(self.model, self.data, self.nb_substeps)
+            self._substep += self.nb_substeps
+        else:
+            for _ in range(self.nb_substeps):
+                self.data.xfrc_applied[:] = 0.0
+                active = [(f, body) for f, body in self._disturbances if f.is_active(self.time)]
+                if any(force.point is not None for force, _ in active):
+                    mujoco.mj_kinematics(self.model, self.data)  # body poses of this state
+                    mujoco.mj_comPos(self.model, self.data)
+                for force, body_id in active:
+                    force.apply(self.data, body_id)
+                mujoco.mj_step(self.model, self.data)
+                self._substep += 1
+        self._check_stable(self.time)
+        self._state = None
+        return self.state()
+
+    def state(self) -> SimState:
+        """Snapshot of the current state, measurements computed at the current positions."""
+        if self._state is None:
+            self._state = self._compute_state()
+        return self._state
+
+    def _ctrl_of(self, joint_targets: np.ndarray) -> np.ndarray:
+        targets = np.asarray(joint_targets, dtype=float)
+        nq = self.robot.model.nq
+        if targets.shape == (nq,):
+            q = targets
+        elif targets.shape == (nq - 7,):
+            q = np.concatenate([self.robot.q0[:7], targets])
+        else:
+            raise ConfigurationError(
+                f"Joint targets must have {nq - 7} joint angles (robot.joint_names order) or "
+                f"be a configuration of size {nq}; got shape {targets.shape}."
+            )
+        if not np.all(np.isfinite(q[7:])):
+            raise ConfigurationError(
+                "Joint targets must be finite, got NaN or infinite angles for "
+                f"{[n for n, a in zip(self.robot.joint_names, q[7:]) if not np.isfinite(a)]}; "
+                "check the IK output."
+            )
+        return self.robot.q_to_ctrl(q)
+
+    def _check_stable(self, time: float) -> None:
+        warnings = self.data.warning
+        if any(warnings[w].number > 0 for w in _UNSTABLE_WARNINGS):
+            raise SimulationUnstable(time, self.timestep)
+
+    def _compute_state(self) -> SimState:
+        model, data, robot = self.model, self.data, self.robot
+        mujoco.mj_forward(model, data)  # kinematics, contact forces, sensors at current qpos
+        mujoco.mj_subtreeVel(model, data)
+        q = robot.qpos_to_q(data.qpos)
+        v = robot.qvel_to_v(data.qpos, data.qvel)
+        noise, rng = self.sensor_noise, self.rng
+        gyro = data.sensordata[self._sensor["imu_gyro"]].copy()
+        accelerometer = data.sensordata[self._sensor["imu_accelerometer"]].copy()
+        quaternion = data.sensordata[self._sensor["imu_orientation"]].copy()
+        encoders = q[7:].copy()
+        if noise.gyro_std > 0.0:
+            gyro += rng.normal(0.0, noise.gyro_std, 3)
+        if noise.accelerometer_std > 0.0:
+            accelerometer += rng.normal(0.0, noise.accelerometer_std, 3)
+        if noise.encoder_std > 0.0:
+            encoders += rng.normal(0.0, noise.encoder_std, encoders.shape)
+        quaternion /= np.linalg.norm(quaternion)
+        roll, pitch, yaw = quaternion_to_rpy(quaternion)
+        imu = ImuReading(gyro=frozen_array(gyro), accelerometer=frozen_array(accelerometer),
+                         quaternion=frozen_array(quaternion), roll=roll, pitch=pitch, yaw=yaw)
+        left, right, cop, has_cop = self.contacts.measure(model, data)
+        measurements = Measurements(
+            imu=imu, left_foot=left, right_foot=right, cop=cop, has_cop=has_cop,
+            com=frozen_array(data.subtree_com[self.root_body]),
+            com_velocity=frozen_array(data.subtree_linvel[self.root_body]),
+            joint_positions=frozen_array(encoders), joint_velocities=frozen_array(v[6:]),
+        )
+        sites = list(self.contacts.site_ids)
+        return SimState(
+            time=self.time, q=frozen_array(q), v=frozen_array(v),
+            base_position=frozen_array(data.xpos[self.root_body]),
+            base_rotation=frozen_array(data.xmat[self.root_body], (3, 3)),
+            sole_positions=frozen_array(data.site_xpos[sites]),
+            sole_rotations=frozen_array(data.site_xmat[sites], (2, 3, 3)),
+            measurements=measurements,
+        )

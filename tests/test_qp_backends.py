@@ -1,0 +1,200 @@
+"""Every QP back-end on the walking QP: residuals, and the same answer."""
+
+import functools
+import warnings
+
+import numpy as np
+import pytest
+import qpsolvers
+
+from mpcwalk.exceptions import ConfigurationError, SolverNotFound
+from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side, StepTiming
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.generators.mpc import MpcGenerator
+from mpcwalk.generators.static_qp import StaticQPGenerator
+from mpcwalk.models.lipm import LIPM
+from mpcwalk.qp import MpcParameters, QPResult, WalkingQP, make_solver, solver_names
+from mpcwalk.qp.casadi_solver import available_plugins
+from mpcwalk.qp.solvers import DEFINITE_SOLVERS
+
+
+def straight_schedule(step_duration, r_ds, nb_steps=6, stride=0.05):
+    """Straight walk, feet 0.08 m apart, ``stride`` [m] of torso per step."""
+    left, right = Footstep(Side.LEFT, [0.0, 0.04]), Footstep(Side.RIGHT, [0.0, -0.04])
+    steps = [Footstep(Side.RIGHT if k % 2 == 0 else Side.LEFT,
+                      [stride * (k + 1), -0.04 if k % 2 == 0 else 0.04]) for k in range(nb_steps)]
+    return ContactSchedule(FootstepPlan(left, right, steps, StepTiming(step_duration, r_ds)))
+
+
+@functools.lru_cache(maxsize=None)
+def walking_case(kind):
+    """``(parameters, schedule, t, x0)``: the state of a walk at ``t`` pushed
+    sideways, so that a few support-polygon constraints are active."""
+    if kind == "mpc":
+        generator, schedule, t, push = MpcGenerator(solver="daqp"), \
+            straight_schedule(0.5, 0.2), 1.6, 0.15
+    else:
+        generator, schedule, t, push = StaticQPGenerator(solver="daqp"), \
+            straight_schedule(4.0, 0.5, stride=0.1), 5.63, 0.2
+    out = generator.reset(schedule)
+    while generator.time < t - 1e-9:
+        out = generator.step()
+    x0 = out.state.as_cart_table()
+    x0[1, 1] += push  # [m/s]
+    return generator.parameters, schedule, t, x0
+
+
+def build(kind, formulation):
+    params, schedule, t, x0 = walking_case(kind)
+    qp = WalkingQP(LIPM(), params, formulation)
+    qp.update(x0, t, schedule)
+    return qp
+
+
+@functools.lru_cache(maxsize=None)
+def reference(kind):
+    """High-accuracy reference (quadprog, dense): predicted CoM and ZMP [m]."""
+    qp = build(kind, "dense")
+    result = make_solver("quadprog").solve(qp)
+    assert result.success
+    active = int(np.sum(qp.A @ result.x - qp.u > -1e-9))
+    pred = qp.predict(qp.jerks(result.x))
+    return pred.com, pred.zmp, active
+
+
+#: Settings for accuracy, and tolerances (primal residual [m], dual residual,
+#: duality gap, distance to the reference [m]) met by each back-end.
+SETTINGS = {
+    "clarabel": dict(tol_gap_abs=1e-10, tol_gap_rel=1e-10, tol_feas=1e-10),
+    "cvxopt": dict(abstol=1e-10, reltol=1e-10, feastol=1e-10),
+    "osqp": dict(eps_abs=1e-9, eps_rel=0.0, polish=True, max_iter=100000),
+    "piqp": dict(eps_abs=1e-10, eps_rel=0.0),
+    "proxqp": dict(eps_abs=1e-9, eps_rel=0.0),
+    "qpalm": dict(eps_abs=1e-10, eps_rel=0.0),
+    "scs": dict(eps_abs=1e-9, eps_rel=0.0),
+}
+DEFAULT_TOLERANCE = (1e-8, 1e-8, 1e-7, 5e-6)
+TOLERANCES = {
+    # HiGHS's active-set QP stops on its own criteria; its duals are ~1e-6.
+    "highs": (1e-8, 1e-5, 1e-3, 1e-3),
+    # ECOS solves the QP as a cone program (through a factor of P); tighter
+    # settings than its defaults make it fail on the static QP.
+    "ecos": (1e-8, 1e-6, 1e-5, 5e-6),
+    "proxqp": (1e-8, 1e-8, 1e-6, 1e-6),
+    "qtqp": (1e-8, 1e-8, 1e-6, 5e-6),
+}
+_JAX = ("runs in JAX float32 unless jax_enable_x64 is set process-wide (a global switch "
+        "a test must not flip); in float32 it returns 'not found' on these QPs (checked, "
+        "jaxopt_osqp at tol=1e-6), after a JIT compilation of ~2 s")
+SKIP = {"qpax": f"qpax {_JAX}", "jaxopt_osqp": f"jaxopt_osqp {_JAX}"}
+SKIP_SPARSE = {
+    "highs": "HiGHS's QP solver ends with 'Solve error' on the sparse layout (its own KKT "
+             "check finds ~1e-4 infeasibilities in the dynamics rows; checked on both QPs)",
+}
+
+
+def assert_result(result: QPResult, qp: WalkingQP, kind: str, tolerance):
+    primal_tol, dual_tol, gap_tol, distance_tol = tolerance
+    assert result.success, result.status
+    assert result.primal_residual < primal_tol
+    # Dual residual and gap relative to the size of their terms (the walking
+    # QPs have |q| ~ 0.2-8 and x'Px up to ~400 after the cost scaling).
+    Px = qp.P @ result.x
+    dual_scale = max(1.0, np.max(np.abs(Px)), np.max(np.abs(qp.q)))
+    assert result.dual_residual is not None and result.dual_residual < dual_tol * dual_scale
+    gap_scale = max(1.0, float(result.x @ Px))
+    assert result.duality_gap is not None and result.duality_gap < gap_tol * gap_scale
+    com, zmp, _ = reference(kind)
+    pred = qp.predict(qp.jerks(result.x))
+    assert np.max(np.abs(pred.zmp - zmp)) < distance_tol
+    # The last jerks are weakly determined (they act on the last ZMP samples
+    # only) and the CoM diverges there: compare its first half.
+    half = qp.N // 2
+    assert np.max(np.abs(pred.com[:half] - com[:half])) < distance_tol
+
+
+@pytest.mark.parametrize("kind", ["mpc", "static"])
+def test_reference_problems_have_active_constraints(kind):
+    assert reference(kind)[2] >= 1
+
+
+@pytest.mark.parametrize("formulation", ["dense", "sparse"])
+@pytest.mark.parametrize("kind", ["mpc", "static"])
+@pytest.mark.parametrize("solver", qpsolvers.available_solvers)
+def test_qpsolvers_backend(solver, kind, formulation):
+    if solver in SKIP:
+        pytest.skip(SKIP[solver])
+    if formulation == "sparse" and solver in DEFINITE_SOLVERS:
+        pytest.skip(f"{solver} needs a positive definite P (at its default settings); the "
+                    "sparse layout's P is only semidefinite")
+    if formulation == "sparse" and solver in SKIP_SPARSE:
+        pytest.skip(SKIP_SPARSE[solver])
+    qp = build(kind, formulation)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = make_solver(solver, **SETTINGS.get(solver, {})).solve(qp)
+    assert_result(result, qp, kind, TOLERANCES.get(solver, DEFAULT_TOLERANCE))
+
+
+@pytest.mark.parametrize("formulation", ["dense", "sparse"])
+@pytest.mark.parametrize("kind", ["mpc", "static"])
+def test_osqp_direct_matches_the_reference(kind, formulation):
+    qp = build(kind, formulation)
+    solver = make_solver("osqp-direct", eps_abs=1e-8, eps_rel=1e-8, max_iter=100000)
+    result = solver.solve(qp)
+    assert result.iterations > 0
+    assert_result(result, qp, kind, (1e-7, 1e-7, 1e-6, 5e-6))
+    # A second call with the same data is warm: fewer iterations, same answer.
+    again = solver.solve(qp)
+    assert again.iterations < result.iterations
+    assert_result(again, qp, kind, (1e-7, 1e-7, 1e-6, 5e-6))
+
+
+CASADI = [p for p in ("qpoases", "osqp", "qrqp", "proxqp", "daqp") if p in available_plugins()]
+
+
+@pytest.mark.parametrize("formulation", ["dense", "sparse"])
+@pytest.mark.parametrize("kind", ["mpc", "static"])
+@pytest.mark.parametrize("plugin", CASADI)
+def test_casadi_matches_the_reference(plugin, kind, formulation):
+    if plugin == "daqp" and formulation == "sparse":
+        pytest.skip("DAQP needs a positive definite P (at its default settings); the sparse "
+                    "layout's P is only semidefinite")
+    qp = build(kind, formulation)
+    result = make_solver(f"casadi-{plugin}").solve(qp)
+    if plugin in ("osqp", "proxqp"):  # first-order / proximal: 1e-8 stopping tolerance
+        tolerance = (1e-6, 1e-7, 1e-6, 1e-5)
+    elif formulation == "sparse":  # active sets on a semidefinite P
+        tolerance = (1e-7, 1e-8, 1e-8, 1e-6)
+    else:
+        tolerance = (1e-9, 1e-9, 1e-9, 1e-8)
+    assert_result(result, qp, kind, tolerance)
+
+
+def test_kkt_solver_is_exact_without_constraints():
+    params, schedule, t, x0 = walking_case("mpc")
+    unconstrained = params.replace(constrained=False)
+    results = []
+    for formulation in ("dense", "sparse"):
+        qp = WalkingQP(LIPM(), unconstrained, formulation)
+        qp.update(x0, t, schedule)
+        result = make_solver("kkt").solve(qp)
+        assert result.dual_residual < 1e-10 and result.primal_residual < 1e-10
+        results.append(qp.predict(qp.jerks(result.x)).zmp)
+    assert np.max(np.abs(results[0] - results[1])) < 1e-10
+    with pytest.raises(ConfigurationError, match="without inequality constraints"):
+        make_solver("kkt").solve(build("mpc", "dense"))
+
+
+def test_unknown_solver_lists_the_available_ones():
+    with pytest.raises(SolverNotFound, match="'gurobo' is not available; the available solvers "
+                                             "are osqp-direct, kkt.*quadprog"):
+        make_solver("gurobo")
+    with pytest.raises(SolverNotFound, match="casadi-cplx"):
+        make_solver("casadi-cplx")
+    assert set(qpsolvers.available_solvers) <= set(solver_names())
+
+
+def test_definite_solvers_refuse_the_sparse_layout():
+    with pytest.raises(ConfigurationError, match="quadprog.*formulation='dense'"):
+        make_solver("quadprog").check(build("mpc", "sparse"))

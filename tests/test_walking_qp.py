@@ -1,0 +1,193 @@
+"""Walking MPC QP construction: condensed vs sparse, cheap updates, inputs."""
+
+import numpy as np
+import pytest
+
+from mpcwalk.exceptions import ConfigurationError, NotReset
+from mpcwalk.generators.mpc import MpcGenerator
+from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side, StepTiming, rotation_2d
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.metrics import support_margins
+from mpcwalk.models.cart_table import CartTable
+from mpcwalk.models.lipm import LIPM
+from mpcwalk.qp import MpcParameters, WalkingQP, make_solver
+from mpcwalk.qp.schedule_tables import ScheduleTables
+
+
+def arc_schedule(velocity, nb_steps=8, *, step_duration=0.5, r_ds=0.2, half_width=0.04):
+    """Alternating footsteps for a torso moving at ``(vx, vy, yaw_rate)``
+    (torso frame), feet at least ``2 half_width`` apart."""
+    vx, vy, yaw_rate = velocity
+    left, right = Footstep(Side.LEFT, [0.0, half_width]), Footstep(Side.RIGHT, [0.0, -half_width])
+    feet = {Side.LEFT: left, Side.RIGHT: right}
+    side = Side.LEFT if vy > 0 or (vy == 0 and yaw_rate > 0) else Side.RIGHT
+    torso, yaw, steps = np.zeros(2), 0.0, []
+    for _ in range(nb_steps):
+        yaw += yaw_rate * step_duration
+        torso = torso + rotation_2d(yaw) @ [vx * step_duration, vy * step_duration]
+        support = feet[side.other]
+        local = support.to_local(torso + rotation_2d(yaw) @ [0.0, side.sign * half_width])
+        local[1] = side.sign * max(side.sign * local[1], 2.0 * half_width)
+        feet[side] = Footstep(side, support.to_world(local), yaw)
+        steps.append(feet[side])
+        side = side.other
+    return ContactSchedule(FootstepPlan(left, right, steps, StepTiming(step_duration, r_ds)))
+
+
+RICH = MpcParameters(  # every term and every constraint group
+    velocity_weight=0.1, com_weight=0.1, com_weight_single_support_only=True,
+    zmp_margin=0.002, com_margin=0.0, terminal_dcm=True,
+)
+X0 = np.array([[0.0, 0.0], [0.05, 0.1], [0.0, 0.0]])  # pushed sideways
+ACCURATE = {"quadprog": {}, "clarabel": dict(tol_gap_abs=1e-11, tol_gap_rel=1e-11, tol_feas=1e-11)}
+
+
+def walking_state(schedule, t, push=(0.0, 0.05), params=MpcParameters()):
+    """CoM state at ``t`` of an MPC walk on ``schedule`` plus a velocity push
+    [m/s]: a state the QP meets in practice, with active constraints."""
+    generator = MpcGenerator(solver="daqp", parameters=params)
+    out = generator.reset(schedule)
+    while generator.time < t - 1e-9:
+        out = generator.step()
+    state = out.state.as_cart_table()
+    state[1] += push
+    return state
+
+
+def solve_pair(params, x0, t, schedule, control_period=None):
+    """Dense (quadprog) and sparse (clarabel) solutions: CoM and ZMP [m]."""
+    out = []
+    for formulation, solver in (("dense", "quadprog"), ("sparse", "clarabel")):
+        qp = WalkingQP(LIPM(), params, formulation, control_period=control_period)
+        qp.update(x0, t, schedule)
+        result = make_solver(solver, **ACCURATE[solver]).solve(qp)
+        assert result.success, (formulation, result.status)
+        out.append((qp, result, qp.predict(qp.jerks(result.x))))
+    return out
+
+
+@pytest.mark.parametrize("phase", [0.3, 1.02, 1.27, 2.46])
+@pytest.mark.parametrize("params", [MpcParameters(), RICH], ids=["default", "rich"])
+def test_dense_and_sparse_formulations_agree(params, phase):
+    # CoM constraints need a slow (static) gait: T = 2 s there.
+    step_duration = 0.5 if params.com_margin is None else 2.0
+    t = phase * step_duration / 0.5
+    schedule = arc_schedule((0.1 * 0.5 / step_duration, 0.0, np.deg2rad(20.0)),
+                            step_duration=step_duration, r_ds=0.2 if step_duration == 0.5 else 0.5)
+    x0 = walking_state(schedule, t, params=params)
+    (qd, rd, pd), (qs, rs, ps) = solve_pair(params, x0, t, schedule, control_period=0.01)
+    assert np.max(np.abs(pd.zmp - ps.zmp)) < 1e-7  # [m]
+    assert np.max(np.abs(pd.com - ps.com)) < 1e-7  # [m]
+    # Same constraints: the sparse states satisfy the dynamics.
+    assert rs.primal_residual < 1e-8
+    states = rs.x[2 * qs.N:].reshape(2, qs.N, 3)
+    assert np.max(np.abs(states[:, :, 0].T - ps.com)) < 1e-8
+
+
+def test_an_active_constraint_is_met_with_equality():
+    schedule = arc_schedule((0.1, 0.0, 0.0))
+    x0 = walking_state(schedule, 1.2, push=(0.0, 0.2))  # ZMP pressed on an edge
+    (qd, rd, pd), (qs, rs, ps) = solve_pair(MpcParameters(), x0, 1.2, schedule)
+    slack = qd.u - qd.A @ rd.x
+    assert np.min(slack) < 1e-9 and np.min(slack) > -1e-9
+    margins = support_margins(schedule, pd.times, pd.zmp)
+    assert margins.min() > -1e-9
+    assert np.max(np.abs(pd.zmp - ps.zmp)) < 1e-7
+
+
+def test_prediction_is_exact_integration():
+    qp = WalkingQP(LIPM(), MpcParameters(horizon=10), "dense")
+    qp.update(X0, 0.0, arc_schedule((0.1, 0.0, 0.0)))
+    jerks = np.random.default_rng(1).normal(size=(10, 2))
+    pred = qp.predict(jerks)
+    model = CartTable(LIPM(), 0.1)
+    state = X0.copy()
+    for i in range(10):
+        state = model.integrate(state, jerks[i], 0.1)
+        assert np.allclose(pred.com[i], state[0], atol=1e-13)
+        assert np.allclose(pred.com_velocity[i], state[1], atol=1e-13)
+        assert np.allclose(pred.com_acceleration[i], state[2], atol=1e-13)
+        assert np.allclose(pred.zmp[i], model.zmp(state), atol=1e-13)
+
+
+@pytest.mark.parametrize("formulation", ["dense", "sparse"])
+def test_matrices_keep_their_pattern_and_change_only_with_polygons(formulation):
+    schedule = arc_schedule((0.1, 0.0, 0.0))
+    qp = WalkingQP(LIPM(), RICH, formulation, control_period=0.01)
+    pattern = (qp.A.indptr.copy(), qp.A.indices.copy())
+    P_pattern = (qp.P_upper.indptr.copy(), qp.P_upper.indices.copy())
+    versions, qs = [], []
+    for tick in range(150):
+        qp.update(X0, 0.01 * tick, schedule)
+        versions.append((qp.A_version, qp.P_version))
+        qs.append(qp.q.copy())
+        assert np.array_equal(qp.A.indptr, pattern[0]) and np.array_equal(qp.A.indices, pattern[1])
+        assert np.array_equal(qp.P_upper.indptr, P_pattern[0])
+        assert np.array_equal(qp.P_upper.indices, P_pattern[1])
+    A_rewrites = versions[-1][0]
+    # The matrix is rewritten when the polygon sequence changes, not every tick.
+    assert 5 <= A_rewrites < 75
+    assert versions[-1][1] >= 2  # CoM weights follow single support
+    assert len({q.tobytes() for q in qs}) > 100  # q moves every tick
+
+
+def test_polygon_sequence_key_merges_phases_with_the_same_polygon():
+    schedule = arc_schedule((0.1, 0.0, 0.0))
+    tables = ScheduleTables.from_schedule(schedule)
+    # Double support closing step k and opening step k + 1 share the stance.
+    for i, phase in enumerate(schedule.phases[1:-1], start=1):
+        following = schedule.phases[i + 1]
+        if not phase.single_support and not following.single_support:
+            assert tables.polygon_id[i] == tables.polygon_id[i + 1]
+
+
+@pytest.mark.parametrize("r_ds", [0.0, 0.2, 0.5])
+def test_interpolated_zmp_reference_matches_the_schedule(r_ds):
+    schedule = arc_schedule((0.1, 0.05, 0.3), nb_steps=5, r_ds=r_ds)
+    tables = ScheduleTables.from_schedule(schedule)
+    times = np.random.default_rng(0).uniform(-0.5, schedule.duration + 1.0, 5000)
+    times = np.concatenate([times, [ph.start for ph in schedule.phases]])
+    assert np.max(np.abs(tables.zmp_reference(times) - schedule.zmp_reference(times))) < 1e-12
+
+
+def test_com_polygon_switches_to_the_foot_one_sample_before_single_support():
+    schedule = arc_schedule((0.1, 0.0, 0.0), step_duration=4.0, r_ds=0.5)
+    qp = WalkingQP(LIPM(), MpcParameters(com_margin=0.01, zmp_weight=0.0), "dense")
+    ss_start = schedule.walk_start + schedule.t_b
+    qp.update(X0, ss_start - 0.55, schedule)  # samples at ss_start - 0.45 + 0.1 i
+    foot = schedule.phase(ss_start + 0.01).polygon
+    for i, time in enumerate(qp.sample_times):
+        expected = foot if time > ss_start - 0.1 else schedule.phase(time).polygon
+        k = len(expected.b)
+        assert np.allclose(qp.supports.com_A[i, :k], expected.A)
+        assert np.allclose(qp.supports.com_b[i, :k], expected.b)
+        assert np.allclose(qp.supports.zmp_b[i, :k], schedule.phase(time).polygon.b)
+
+
+@pytest.mark.parametrize("formulation", ["dense", "sparse"])
+def test_shifted_warm_start_moves_samples(formulation):
+    qp = WalkingQP(LIPM(), MpcParameters(horizon=4), formulation)
+    x = np.arange(qp.n, dtype=float)
+    shifted = qp.shift_primal(x, 1.0)
+    assert np.array_equal(shifted[:8], [1, 2, 3, 3, 5, 6, 7, 7])
+    half = qp.shift_primal(x, 0.5)
+    assert np.allclose(half[:4], [0.5, 1.5, 2.5, 3.0])
+
+
+def test_bad_inputs_raise_named_errors():
+    with pytest.raises(ConfigurationError, match="formulation must be one of dense, sparse"):
+        WalkingQP(LIPM(), MpcParameters(), "condensed")
+    qp = WalkingQP(LIPM(), MpcParameters(), "dense")
+    with pytest.raises(NotReset, match="update"):
+        qp.problem()
+    with pytest.raises(ConfigurationError, match=r"shape \(3, 2\)"):
+        qp.update(np.zeros(3), 0.0, arc_schedule((0.1, 0.0, 0.0)))
+    with pytest.raises(ConfigurationError, match=r"zmp_reference must have shape \(16, 2\)"):
+        qp.update(X0, 0.0, arc_schedule((0.1, 0.0, 0.0)), zmp_reference=np.zeros((3, 2)))
+    with pytest.raises(ConfigurationError, match="horizon is a number of samples"):
+        MpcParameters(horizon=1.6)
+    with pytest.raises(ConfigurationError, match="jerk_weight must be positive"):
+        MpcParameters(jerk_weight=0.0)
+    with pytest.raises(ConfigurationError, match="Unknown MPC parameter.*horizon_duration"):
+        MpcParameters().replace(horizon_duration=1.6)
+    assert MpcParameters.with_duration(1.6, 0.005).horizon == 320
