@@ -53,14 +53,30 @@ from .models import LIPM, CartTable, SupportPolygon, foot_rectangle
 
 __version__ = "0.1.0"
 
+#: Imported on first use: the QP generators pull in qpsolvers and CasADi (~1 s).
+_LAZY = {
+    "MpcGenerator": ".generators.mpc",
+    "StaticQPGenerator": ".generators.static_qp",
+    "MpcParameters": ".qp",
+    "WalkingQP": ".qp",
+}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        import importlib
+
+        return getattr(importlib.import_module(_LAZY[name], __name__), name)
+    raise AttributeError(f"module 'mpcwalk' has no attribute {name!r}")
+
 __all__ = [
     "AnalyticGenerator", "CartTable", "ComState", "ConfigurationError", "ContactSchedule",
     "FootGeometry", "Footstep", "FootstepFileError", "FootstepPlan", "GeneratorNotFound",
     "GeneratorOutput", "Horizon", "InfeasibleCommand", "InfeasibleStep", "LIPM", "LegLimits",
-    "MpcwalkError", "NoSolutionFound", "NotReset", "PathFollower", "PatternGenerator",
+    "MpcGenerator", "MpcParameters", "MpcwalkError", "NoSolutionFound", "NotReset", "PathFollower", "PatternGenerator",
     "PreviewGenerator", "ReachabilityRectangle", "Rollout", "Side", "SolveInfo",
-    "SolverNotFound", "StaticGenerator", "StepTiming", "SupportPolygon", "SwingFootTrajectory",
-    "VelocityCommand", "VelocityPlanner", "ctraj", "foot_rectangle", "generator_names", "jtraj",
+    "SolverNotFound", "StaticGenerator", "StaticQPGenerator", "StepTiming", "SupportPolygon", "SwingFootTrajectory",
+    "VelocityCommand", "VelocityPlanner", "WalkingQP", "ctraj", "foot_rectangle", "generator_names", "jtraj",
     "make_generator", "plan_from_path", "plan_from_velocity", "read_mdat", "rollout",
     "support_margins", "write_mdat",
 ]

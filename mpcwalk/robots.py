@@ -118,6 +118,9 @@ class RobotPreset:
         nominal_posture: Joint angles of the walking posture [rad]; others are 0.
         actuators: Gains by joint-name pattern, first match wins (URDF only).
         timestep: Physics time step [s] (URDF only; MJCF files set their own).
+        gait: Optional walking defaults of the ``[gait]`` table (step_duration [s],
+            double_support_ratio, step_height [m], leg limits [m] / [rad]...), read by the
+            walk runner; empty when the preset has none.
     """
 
     name: str
@@ -134,6 +137,7 @@ class RobotPreset:
     nominal_posture: Dict[str, float] = field(default_factory=dict)
     actuators: Tuple[ActuatorGains, ...] = ()
     timestep: float = 0.002
+    gait: Dict[str, float] = field(default_factory=dict)
 
     @staticmethod
     def from_file(path: Path) -> "RobotPreset":
@@ -156,6 +160,7 @@ class RobotPreset:
                 nominal_posture={k: float(v) for k, v in raw.get("nominal_posture", {}).items()},
                 actuators=tuple(ActuatorGains(**a) for a in raw.get("actuators", [])),
                 timestep=float(raw.get("timestep", 0.002)),
+                gait={k: float(v) for k, v in raw.get("gait", {}).items()},
             )
         except (KeyError, TypeError, ValueError, tomllib.TOMLDecodeError) as error:
             raise ConfigurationError(

@@ -12,6 +12,7 @@ from mpcwalk.generators import make_generator, rollout
 from mpcwalk.generators.analytic import AnalyticGenerator, closed_form_step
 from mpcwalk.metrics import support_margins
 from mpcwalk.models.lipm import LIPM
+from plans import arc_schedule
 
 T, Z_C, R_DS = 0.5, 0.23, 0.2  # paper M, Table 1
 OMEGA = LIPM(Z_C).omega
@@ -23,29 +24,6 @@ COMMANDS = {  # torso displacement per step (dx [m], dy [m], dyaw [rad]) at T = 
 }
 
 
-def arc_schedule(step, nb_steps=20, *, step_duration=T, r_ds=R_DS, y_sep=0.04):
-    """Alternating footsteps along an arc: the torso moves by ``step`` (in its
-    own frame) per step and the swing foot lands ``y_sep`` beside it, at least
-    ``2 y_sep`` from the support foot."""
-    dx, dy, dyaw = step
-    feet = {Side.LEFT: Footstep(Side.LEFT, [0.0, y_sep]),
-            Side.RIGHT: Footstep(Side.RIGHT, [0.0, -y_sep])}
-    initial = dict(feet)
-    side = Side.LEFT if dy > 0 or (dy == 0 and dyaw > 0) else Side.RIGHT
-    torso, yaw, steps = np.zeros(2), 0.0, []
-    for _ in range(nb_steps):
-        torso = torso + rotation_2d(yaw) @ [dx, dy]
-        yaw += dyaw
-        support = feet[side.other]
-        target = torso + rotation_2d(yaw) @ [0.0, side.sign * y_sep]
-        local = support.to_local(target)
-        local[1] = side.sign * max(side.sign * local[1], 2.0 * y_sep)
-        feet[side] = Footstep(side, support.to_world(local), yaw)
-        steps.append(feet[side])
-        side = side.other
-    timing = StepTiming(step_duration, r_ds, 1.0, 1.0)
-    plan = FootstepPlan(initial[Side.LEFT], initial[Side.RIGHT], steps, timing)
-    return ContactSchedule(plan, FootGeometry())
 
 
 def random_steps(rng, n):

@@ -12,6 +12,7 @@ from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators import ComState, make_generator, rollout
 from mpcwalk.generators.mpc import MpcGenerator
 from mpcwalk.metrics import support_margins
+from plans import velocity_schedule as arc_schedule
 
 COMMANDS = {  # (vx [m/s], vy [m/s], yaw rate [rad/s]) in the torso frame
     "straight": (0.1, 0.0, 0.0),
@@ -20,24 +21,6 @@ COMMANDS = {  # (vx [m/s], vy [m/s], yaw rate [rad/s]) in the torso frame
 }
 
 
-def arc_schedule(velocity, nb_steps=20, *, step_duration=0.5, r_ds=0.2, half_width=0.04):
-    """Alternating footsteps for a torso moving at ``(vx, vy, yaw_rate)``
-    (torso frame), feet at least ``2 half_width`` apart."""
-    vx, vy, yaw_rate = velocity
-    left, right = Footstep(Side.LEFT, [0.0, half_width]), Footstep(Side.RIGHT, [0.0, -half_width])
-    feet = {Side.LEFT: left, Side.RIGHT: right}
-    side = Side.LEFT if vy > 0 or (vy == 0 and yaw_rate > 0) else Side.RIGHT
-    torso, yaw, steps = np.zeros(2), 0.0, []
-    for _ in range(nb_steps):
-        yaw += yaw_rate * step_duration
-        torso = torso + rotation_2d(yaw) @ [vx * step_duration, vy * step_duration]
-        support = feet[side.other]
-        local = support.to_local(torso + rotation_2d(yaw) @ [0.0, side.sign * half_width])
-        local[1] = side.sign * max(side.sign * local[1], 2.0 * half_width)
-        feet[side] = Footstep(side, support.to_world(local), yaw)
-        steps.append(feet[side])
-        side = side.other
-    return ContactSchedule(FootstepPlan(left, right, steps, StepTiming(step_duration, r_ds)))
 
 
 @functools.lru_cache(maxsize=None)

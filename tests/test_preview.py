@@ -13,6 +13,7 @@ from mpcwalk.generators.preview import PreviewGenerator, compute_preview_gains
 from mpcwalk.metrics import support_margins
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.lipm import LIPM
+from plans import arc_schedule
 
 COMMANDS = {  # torso displacement per step (dx [m], dy [m], dyaw [rad]) at T = 0.5 s
     "straight": (0.05, 0.0, 0.0),  # 0.1 m/s
@@ -21,28 +22,6 @@ COMMANDS = {  # torso displacement per step (dx [m], dy [m], dyaw [rad]) at T = 
 }
 
 
-def arc_schedule(step, nb_steps=20, *, step_duration=0.5, r_ds=0.2, y_sep=0.04, offset=(0.0, 0.0)):
-    """Alternating footsteps along an arc: the torso moves by ``step`` (in its
-    own frame) per step and the swing foot lands ``y_sep`` beside it, at least
-    ``2 y_sep`` from the support foot."""
-    dx, dy, dyaw = step
-    feet = {Side.LEFT: Footstep(Side.LEFT, np.add(offset, [0.0, y_sep])),
-            Side.RIGHT: Footstep(Side.RIGHT, np.add(offset, [0.0, -y_sep]))}
-    initial = dict(feet)
-    side = Side.LEFT if dy > 0 or (dy == 0 and dyaw > 0) else Side.RIGHT
-    torso, yaw, steps = np.array(offset, dtype=float), 0.0, []
-    for _ in range(nb_steps):
-        torso = torso + rotation_2d(yaw) @ [dx, dy]
-        yaw += dyaw
-        support = feet[side.other]
-        local = support.to_local(torso + rotation_2d(yaw) @ [0.0, side.sign * y_sep])
-        local[1] = side.sign * max(side.sign * local[1], 2.0 * y_sep)
-        feet[side] = Footstep(side, support.to_world(local), yaw)
-        steps.append(feet[side])
-        side = side.other
-    timing = StepTiming(step_duration, r_ds, 1.0, 1.0)
-    plan = FootstepPlan(initial[Side.LEFT], initial[Side.RIGHT], steps, timing)
-    return ContactSchedule(plan, FootGeometry())
 
 
 @pytest.mark.parametrize("period, state_weight", [(0.01, 0.0), (0.01, 1e-3), (0.005, 0.0)])

@@ -11,6 +11,7 @@ from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators import make_generator, rollout
 from mpcwalk.generators.static import StaticGenerator, quintic
 from mpcwalk.metrics import support_margins
+from plans import arc_schedule
 
 COMMANDS = {  # torso displacement per step (dx [m], dy [m], dyaw [rad])
     "straight": (0.05, 0.0, 0.0),  # 0.1 m/s at T = 0.5 s
@@ -20,28 +21,6 @@ COMMANDS = {  # torso displacement per step (dx [m], dy [m], dyaw [rad])
 SLOW = dict(step_duration=4.0, r_ds=0.5)  # 2 s of double support per step
 
 
-def arc_schedule(step, nb_steps=20, *, step_duration=0.5, r_ds=0.2, y_sep=0.04):
-    """Alternating footsteps along an arc: the torso moves by ``step`` (in its
-    own frame) per step and the swing foot lands ``y_sep`` beside it, at least
-    ``2 y_sep`` from the support foot."""
-    dx, dy, dyaw = step
-    feet = {Side.LEFT: Footstep(Side.LEFT, [0.0, y_sep]),
-            Side.RIGHT: Footstep(Side.RIGHT, [0.0, -y_sep])}
-    initial = dict(feet)
-    side = Side.LEFT if dy > 0 or (dy == 0 and dyaw > 0) else Side.RIGHT
-    torso, yaw, steps = np.zeros(2), 0.0, []
-    for _ in range(nb_steps):
-        torso = torso + rotation_2d(yaw) @ [dx, dy]
-        yaw += dyaw
-        support = feet[side.other]
-        local = support.to_local(torso + rotation_2d(yaw) @ [0.0, side.sign * y_sep])
-        local[1] = side.sign * max(side.sign * local[1], 2.0 * y_sep)
-        feet[side] = Footstep(side, support.to_world(local), yaw)
-        steps.append(feet[side])
-        side = side.other
-    timing = StepTiming(step_duration, r_ds, 1.0, 1.0)
-    plan = FootstepPlan(initial[Side.LEFT], initial[Side.RIGHT], steps, timing)
-    return ContactSchedule(plan, FootGeometry())
 
 
 def test_quintic_boundary_conditions_and_derivatives():

@@ -12,26 +12,9 @@ from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp import MpcParameters, WalkingQP, make_solver
 from mpcwalk.qp.schedule_tables import ScheduleTables
+from plans import velocity_schedule as arc_schedule
 
 
-def arc_schedule(velocity, nb_steps=8, *, step_duration=0.5, r_ds=0.2, half_width=0.04):
-    """Alternating footsteps for a torso moving at ``(vx, vy, yaw_rate)``
-    (torso frame), feet at least ``2 half_width`` apart."""
-    vx, vy, yaw_rate = velocity
-    left, right = Footstep(Side.LEFT, [0.0, half_width]), Footstep(Side.RIGHT, [0.0, -half_width])
-    feet = {Side.LEFT: left, Side.RIGHT: right}
-    side = Side.LEFT if vy > 0 or (vy == 0 and yaw_rate > 0) else Side.RIGHT
-    torso, yaw, steps = np.zeros(2), 0.0, []
-    for _ in range(nb_steps):
-        yaw += yaw_rate * step_duration
-        torso = torso + rotation_2d(yaw) @ [vx * step_duration, vy * step_duration]
-        support = feet[side.other]
-        local = support.to_local(torso + rotation_2d(yaw) @ [0.0, side.sign * half_width])
-        local[1] = side.sign * max(side.sign * local[1], 2.0 * half_width)
-        feet[side] = Footstep(side, support.to_world(local), yaw)
-        steps.append(feet[side])
-        side = side.other
-    return ContactSchedule(FootstepPlan(left, right, steps, StepTiming(step_duration, r_ds)))
 
 
 RICH = MpcParameters(  # every term and every constraint group

@@ -16,11 +16,16 @@ def _run_ticks(args) -> int:
         include_peer=not args.no_peer,
         progress=not args.no_progress,
     )
+    from ..generators.mpc import MpcGenerator
+
     table = format_table(results)
+    params = MpcGenerator.default_parameters
     header = (
         f"Per-tick time of each pattern generator, {args.steps}-step walk at "
         f"v=({args.vx}, {args.vy}, {args.vyaw}), control period {args.control_period} s, "
-        f"MPC horizon 1.6 s at 0.1 s. Machine: {machine_description()}.\n"
+        f"MPC (and qpmpc peer) horizon {params.horizon} samples at {params.sampling_period} s; "
+        f"static gaits on slow timing (T = 2 s, r_ds = 0.5, same step lengths). "
+        f"Machine: {machine_description()}.\n"
         f"Command: `mpcwalk bench ticks --out {args.out}`\n"
     )
     print(header)

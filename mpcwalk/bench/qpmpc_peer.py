@@ -18,6 +18,10 @@ from ..generators.pattern_generator import ComState, GeneratorOutput, Horizon, P
 from ..models.cart_table import CartTable
 
 
+#: Back-ends that take sparse matrices (qpmpc's ``sparse`` flag, as its docs advise).
+_SPARSE_SOLVERS = ("osqp", "clarabel", "piqp", "highs", "scs", "qpalm", "proxqp")
+
+
 class QpmpcPeer(PatternGenerator):
     """Linear walking MPC on ``qpmpc`` (benchmark peer, not registered as a generator).
 
@@ -37,8 +41,8 @@ class QpmpcPeer(PatternGenerator):
         self,
         *,
         solver: str = "osqp",
-        sampling_period: float = 0.1,
-        horizon: int = 16,
+        sampling_period: float = 0.05,
+        horizon: int = 32,
         state_weight: float = 1.0,
         terminal_weight: float = 1.0,
         jerk_weight: float = 1e-6,
@@ -75,8 +79,11 @@ class QpmpcPeer(PatternGenerator):
         N = self.horizon
         times = t + self.sampling_period * np.arange(N)
         Apoly, bpoly = self.schedule.halfplanes(times)
-        C_list = [Apoly[k] @ self.Czmp for k in range(N)]
-        e_list = [bpoly[k] - self.zmp_margin for k in range(N)]
+        # Stage 0 is the current state, which no input can change: qpmpc would
+        # turn a current ZMP off the polygon into an infeasible QP, so it is
+        # left unconstrained (our MPC constrains samples 1..N, the same).
+        C_list = [np.zeros((Apoly.shape[1], 6))] + [Apoly[k] @ self.Czmp for k in range(1, N)]
+        e_list = [np.ones(Apoly.shape[1])] + [bpoly[k] - self.zmp_margin for k in range(1, N)]
         ref = self.schedule.zmp_reference(times)  # qpmpc's stage k is x_k, k = 0..N-1
         targets = np.zeros((N, 6))
         targets[:, 0], targets[:, 3] = ref[:, 0], ref[:, 1]
@@ -95,7 +102,7 @@ class QpmpcPeer(PatternGenerator):
             goal_state=targets[-1],
             target_states=targets.ravel(),
         )
-        qp = MPCQP(problem)
+        qp = MPCQP(problem, sparse=self.solver in _SPARSE_SOLVERS)
         sol = solve_problem(qp.problem, solver=self.solver)
         if sol.found and sol.x is not None:
             jerk = sol.x[:2]

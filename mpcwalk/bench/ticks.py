@@ -18,6 +18,7 @@ from ..gait.contact_schedule import ContactSchedule
 from ..generators import make_generator, rollout
 from ..generators.pattern_generator import PatternGenerator
 from ..metrics import support_margins
+from ..exceptions import MpcwalkError
 from ..models.lipm import LIPM
 
 #: MPC back-ends timed by default (when installed), besides osqp-direct and casadi.
@@ -38,6 +39,9 @@ class TickCase:
         ratio_to_analytic: median / median of the closed form, same run.
         zmp_margin_min_m: Smallest planned ZMP margin, in [m].
         failures: Ticks whose QP failed.
+        timing: ``"paper M"`` (T = 0.5 s, r_ds = 0.2) or ``"slow"`` (static gaits:
+            T = 2 s, r_ds = 0.5, same step lengths).
+        error: The error that stopped this case, or "" (the run goes on).
     """
 
     label: str
@@ -49,6 +53,8 @@ class TickCase:
     ratio_to_analytic: float
     zmp_margin_min_m: float
     failures: int
+    timing: str = "paper M"
+    error: str = ""
 
 
 def _cases(solvers: Optional[Sequence[str]], include_peer: bool):
@@ -56,7 +62,7 @@ def _cases(solvers: Optional[Sequence[str]], include_peer: bool):
 
     cases = [
         ("analytic", "analytic", "", {}),
-        ("static", "static", "", {}),
+        ("static (slow timing)", "static", "", {}),
         ("preview", "preview", "", {}),
         ("mpc osqp-direct", "mpc", "osqp-direct", {"solver": "osqp-direct"}),
         ("mpc casadi", "mpc", "casadi", {"solver": "casadi"}),
@@ -65,7 +71,9 @@ def _cases(solvers: Optional[Sequence[str]], include_peer: bool):
     for name in wanted:
         if name in available_solvers:
             cases.append((f"mpc {name}", "mpc", name, {"solver": name}))
-    cases.append(("static-qp osqp-direct", "static-qp", "osqp-direct", {"solver": "osqp-direct"}))
+    cases.append(("static-qp osqp-direct (slow timing)", "static-qp", "osqp-direct", {"solver": "osqp-direct"}))
+    if "daqp" in available_solvers:
+        cases.append(("static-qp daqp (slow timing)", "static-qp", "daqp", {"solver": "daqp"}))
     if include_peer:
         cases.append(("qpmpc osqp (peer)", "qpmpc", "osqp", {"solver": "osqp"}))
         if "daqp" in available_solvers:
@@ -105,16 +113,28 @@ def run_tick_benchmark(
     """
     from tqdm import tqdm
 
-    lipm, timing = LIPM(), StepTiming()
-    plan = VelocityPlanner(LegLimits(), timing).plan(command, nb_steps)
-    schedule = ContactSchedule(plan, FootGeometry())
+    lipm = LIPM()
+    fast, slow = StepTiming(), StepTiming(step_duration=2.0, double_support_ratio=0.5)
+    scale = fast.step_duration / slow.step_duration
+    slow_command = VelocityCommand(command.vx * scale, command.vy * scale, command.vyaw * scale)
+    schedules = {
+        "paper M": ContactSchedule(VelocityPlanner(LegLimits(), fast).plan(command, nb_steps), FootGeometry()),
+        "slow": ContactSchedule(VelocityPlanner(LegLimits(), slow).plan(slow_command, nb_steps), FootGeometry()),
+    }
     results: List[TickCase] = []
     reference = None
     for label, generator, solver, options in tqdm(
         _cases(solvers, include_peer), desc="generators", disable=not progress
     ):
-        gen = _make(generator, lipm, control_period, options)
-        traj = rollout(gen, schedule)
+        timing = "slow" if generator in ("static", "static-qp") else "paper M"
+        schedule = schedules[timing]
+        try:
+            gen = _make(generator, lipm, control_period, options)
+            traj = rollout(gen, schedule)
+        except MpcwalkError as error:  # a failing case never stops the benchmark
+            results.append(TickCase(label, generator, solver, 0, float("nan"), float("nan"),
+                                    float("nan"), float("nan"), 0, timing, str(error)))
+            continue
         ticks = traj.tick_times[1:] * 1e6  # the first tick includes lazy set-up
         median = float(np.median(ticks))
         if reference is None:
@@ -124,7 +144,7 @@ def run_tick_benchmark(
             label=label, generator=generator, solver=solver, nb_ticks=len(ticks),
             median_us=median, p99_us=float(np.percentile(ticks, 99)),
             ratio_to_analytic=median / reference, zmp_margin_min_m=float(margins.min()),
-            failures=int(traj.nb_failures),
+            failures=int(traj.nb_failures), timing=timing,
         ))
     return results
 
@@ -136,6 +156,9 @@ def format_table(results: List[TickCase]) -> str:
         "|---|---:|---:|---:|---:|---:|",
     ]
     for r in results:
+        if r.error:
+            lines.append(f"| {r.label} | failed: {r.error[:80]} | | | | |")
+            continue
         lines.append(
             f"| {r.label} | {r.median_us:.1f} | {r.p99_us:.1f} | {r.ratio_to_analytic:.1f} | "
             f"{100 * r.zmp_margin_min_m:.2f} | {r.failures} |"

@@ -41,7 +41,10 @@ class MpcGenerator(PatternGenerator):
         parameters: Horizon, weights, margins (default:
             :attr:`default_parameters`); keyword ``overrides`` replace fields
             of it, e.g. ``MpcGenerator(horizon=20, constrained=False)``.
-        solver: ``"osqp-direct"`` (warm-started OSQP), ``"casadi"`` or
+        solver: None (default) picks ``"daqp"`` for the dense formulation (the
+            fastest back-end measured on this problem, see ``mpcwalk bench
+            ticks``) and ``"osqp-direct"`` for the sparse one; ``"osqp-direct"``
+            (warm-started OSQP, vector-only updates), ``"casadi"`` or
             ``"casadi-<plugin>"``, ``"kkt"`` (unconstrained QPs only) or any
             ``qpsolvers`` name (``"daqp"``, ``"proxqp"``, ``"quadprog"``...).
         formulation: ``"dense"`` (condensed) or ``"sparse"``.
@@ -80,7 +83,7 @@ class MpcGenerator(PatternGenerator):
         lipm: LIPM = LIPM(),
         control_period: float = 0.01,
         parameters: Optional[MpcParameters] = None,
-        solver: str = "osqp-direct",
+        solver: Optional[str] = None,
         formulation: str = "dense",
         solver_settings: Optional[dict] = None,
         max_fallback_ticks: int = 10,
@@ -96,6 +99,8 @@ class MpcGenerator(PatternGenerator):
                 f"max_fallback_ticks must be a non-negative integer, got {max_fallback_ticks!r}."
             )
         self.max_fallback_ticks = int(max_fallback_ticks)
+        if solver is None:
+            solver = "osqp-direct" if formulation == "sparse" else "daqp"
         self.solver_name = solver
         tick = None
         if constrain_next_tick and not np.isclose(control_period, self.parameters.sampling_period):

@@ -50,7 +50,7 @@ class OsqpSolver(QPSolver):
         **settings,
     ) -> None:
         self.settings = dict(
-            eps_abs=eps_abs, eps_rel=eps_rel, max_iter=max_iter, polish=polish,
+            eps_abs=eps_abs, eps_rel=eps_rel, max_iter=max_iter, polishing=polish,
             check_termination=check_termination, adaptive_rho_interval=adaptive_rho_interval,
             verbose=False, **settings,
         )
