@@ -1,4 +1,5 @@
-"""Command line: ``mpcwalk plan``, ``mpcwalk generators``, ``mpcwalk bench``."""
+"""Command line: ``mpcwalk plan``, ``mpcwalk generators``, ``mpcwalk bench``, ``mpcwalk walk``,
+``mpcwalk robots``."""
 
 import argparse
 import json
@@ -86,8 +87,11 @@ def build_parser() -> argparse.ArgumentParser:
     _add_plan_parser(sub)
     sub.add_parser("generators", help="list the pattern generators")
     from .bench.cli import add_bench_parser
+    from .walk_cli import add_robots_parser, add_walk_parser
 
     add_bench_parser(sub)
+    add_walk_parser(sub)
+    add_robots_parser(sub)
     return parser
 
 
@@ -102,6 +106,14 @@ def main(argv: Optional[List[str]] = None) -> int:
             return _run_generators(args)
         if args.command == "bench":
             return args.bench_func(args)
+        if args.command == "walk":
+            from .walk_cli import run_walk_command
+
+            return run_walk_command(args)
+        if args.command == "robots":
+            from .walk_cli import run_robots_command
+
+            return run_robots_command(args)
     except MpcwalkError as exc:
         print(f"mpcwalk: error: {exc}", file=sys.stderr)
         return 2

@@ -32,7 +32,7 @@ def walks():
     plan = VelocityPlanner().plan(VelocityCommand(0.1, 0.0, 0.0), 10)
     schedule = ContactSchedule(plan)
     mpc = MpcGenerator(solver="kkt", control_period=PERIOD, sampling_period=PERIOD, horizon=320,
-                       constrained=False, zmp_weight=1.0, jerk_weight=1e-6)
+                       constrained=False, zmp_weight=1.0, jerk_weight=1e-6, velocity_weight=0.0)
     return schedule, {
         "mpc": rollout(mpc, schedule),
         "preview": rollout(PreviewGenerator(control_period=PERIOD, integral_action=False,

@@ -225,6 +225,18 @@ class ContactSchedule:
             out[walking] = p
         return out if np.ndim(times) else out[0]
 
+    def reference_velocity(self, times) -> np.ndarray:
+        """Average walking velocity of each step: ``(x_t[k+1] - x_t[k]) / T`` during
+        step ``k``, zero before and after the walk; shape (n, 2), in [m]/[s]."""
+        t = np.atleast_1d(np.asarray(times, dtype=float))
+        N, T = self.plan.nb_steps, self.step_duration
+        k = np.floor((t - self.walk_start) / T).astype(int)
+        out = np.zeros((len(t), 2))
+        walking = (k >= 0) & (k < N)
+        kw = k[walking]
+        out[walking] = (self.torso_waypoints[kw + 1] - self.torso_waypoints[kw]) / T
+        return out if np.ndim(times) else out[0]
+
     def feet_on_ground(self, t: float) -> Dict[Side, Footstep]:
         """Feet in contact at ``t`` (one in single support, two otherwise)."""
         return dict(self.phase(t).feet)

@@ -38,6 +38,9 @@ class StaticQPGenerator(MpcGenerator):
     """
 
     name: ClassVar[str] = "static-qp"
+    #: Quasi-static: the CoM velocity is damped towards zero.
+    track_walking_velocity: ClassVar[bool] = False
+
     default_parameters: ClassVar[MpcParameters] = MpcParameters(
         sampling_period=0.1,  # [s]
         horizon=16,  # 1.6 s

@@ -48,8 +48,16 @@ class FixedPattern:
         return np.asarray(values, dtype=float).ravel()[self.order]
 
     def matrix(self, data: np.ndarray) -> sp.csc_matrix:
-        """CSC matrix from values already in compressed-column order."""
-        return sp.csc_matrix((data, self.indices, self.indptr), shape=self.shape)
+        """CSC matrix from values already in compressed-column order.
+
+        The matrix owns copies of the arrays: some solvers edit their input
+        in place (qpsolvers' ``sip`` interface calls ``eliminate_zeros``),
+        which would otherwise corrupt this pattern and the caller's values.
+        """
+        return sp.csc_matrix(
+            (np.array(data, dtype=float), self.indices.copy(), self.indptr.copy()),
+            shape=self.shape,
+        )
 
     def dense(self, data: np.ndarray) -> np.ndarray:
         """Dense array from values in compressed-column order."""

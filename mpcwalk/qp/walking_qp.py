@@ -147,7 +147,9 @@ class WalkingQP:
             zmp_reference: Shape (N, 2), in [m]; default: the schedule's
                 polygonal reference (paper M eq. 6-8).
             com_reference: Shape (N, 2), in [m]; default: the support centre.
-            velocity_reference: Shape (N, 2), in [m]/[s]; default: zero.
+            velocity_reference: Shape (N, 2), in [m]/[s]; default: zero (e.g.
+                :meth:`~mpcwalk.gait.ContactSchedule.reference_velocity` gives the
+                average walking velocity of each step, Herdt 2010).
 
         Returns:
             Whether matrix values (``A`` or ``P``) changed.

@@ -1,0 +1,199 @@
+"""Closed-loop walks in MuJoCo: the robots walk, and the runner and CLI report it."""
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mpcwalk.cli import main as cli_main
+from mpcwalk.robots import load_robot
+from mpcwalk.sim import FallDetector, parse_push
+from mpcwalk.walk import leg_limits, plan_walk_footsteps, run_walk
+from mpcwalk.walk_report import cop_margins, landing_check_times
+
+ROOT = Path(__file__).resolve().parent.parent
+TURN_RATE = math.radians(20.0)  # [rad/s] paper M's turning walk
+_ROBOTS = {}
+
+
+def get_robot(name: str):
+    if name not in _ROBOTS:
+        _ROBOTS[name] = load_robot(name, visual=False)
+    return _ROBOTS[name]
+
+
+def check_walk(metrics, *, distance_tolerance, foot_error_cm, zmp_margin_min, yaw_tolerance=5.0,
+               foot_yaw_error_deg=5.0):
+    """What every required walk must show (tolerances in the units of the keys)."""
+    assert not metrics["fell"], metrics["fall_reason"]
+    assert metrics["steps_completed"] == metrics["steps_planned"]
+    assert abs(metrics["distance_m"] - metrics["distance_planned_m"]) < distance_tolerance
+    assert abs(metrics["yaw_change_deg"] - metrics["yaw_change_planned_deg"]) < yaw_tolerance
+    # landings: world frame (includes the drift of earlier steps, as paper A's Fig. 8) and
+    # relative to the support foot they were taken from
+    assert metrics["foot_position_error_cm_max"] < foot_error_cm
+    assert metrics["foot_step_error_cm_max"] < 1.0
+    assert metrics["foot_yaw_error_deg_max"] < foot_yaw_error_deg
+    assert metrics["foot_step_yaw_error_deg_max"] < 2.0
+    # measured CoP against the measured soles the schedule puts on the ground: inside at 95 %
+    # of the ticks; the worst ticks are touchdowns a tick early or lift-offs a tick late
+    assert metrics["zmp_margin_p05_m"] > 0.0
+    assert metrics["zmp_margin_min_m"] > zmp_margin_min
+    assert metrics["cop_outside_share"] < 0.05
+    assert metrics["mpc_failures"] == 0
+    assert metrics["time_simulated_s"] > 0.0 and metrics["real_time_factor"] > 0.0
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("generator", ["analytic", "preview", "mpc"])
+def test_small_humanoid_walks_twenty_steps_forward(generator):
+    """Paper M's Table 1: T = 0.5 s, z_c = 0.23 m, z_step = 0.04 m, r_ds = 0.2, 0.1 m/s."""
+    result = run_walk(get_robot("bioloid-like"), generator, command=(0.1, 0.0, 0.0),
+                      nb_steps=20, progress=False)
+    m = result.metrics
+    assert (m["step_duration_s"], m["com_height_m"], m["step_height_m"],
+            m["double_support_ratio"]) == (0.5, 0.23, 0.04, 0.2)
+    assert m["steps_planned"] == 21  # 20 steps and the closing one
+    assert m["distance_planned_m"] == pytest.approx(1.0)
+    check_walk(m, distance_tolerance=0.06, foot_error_cm=5.0,
+               zmp_margin_min=-0.06 if generator == "analytic" else -0.03)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("generator", ["analytic", "preview", "mpc"])
+def test_small_humanoid_turning_walk_of_paper_m(generator):
+    """0.1 m/s and 20 deg/s for 10 s: 200 deg of yaw."""
+    result = run_walk(get_robot("bioloid-like"), generator, command=(0.1, 0.0, TURN_RATE),
+                      duration=10.0, progress=False)
+    m = result.metrics
+    assert m["yaw_change_planned_deg"] == pytest.approx(200.0)
+    # world-frame errors grow with the heading drift of the stance feet (yaw slips of a
+    # fraction of a degree per step with the preview generator), the per-step ones do not
+    check_walk(m, distance_tolerance=0.1, foot_error_cm=10.0, yaw_tolerance=12.0,
+               foot_yaw_error_deg=12.0,
+               zmp_margin_min=-0.06 if generator == "analytic" else -0.03)
+
+
+@pytest.mark.slow
+def test_large_humanoid_walks_ten_steps_at_one_second_per_step():
+    result = run_walk(get_robot("atlas-like"), "mpc", command=(0.2, 0.0, 0.0), nb_steps=10,
+                      progress=False)
+    m = result.metrics
+    assert m["step_duration_s"] <= 1.0  # paper A needed 12 s per step
+    check_walk(m, distance_tolerance=0.1, foot_error_cm=7.0, zmp_margin_min=-0.03)
+
+
+@pytest.mark.slow
+def test_unitree_g1_walks_ten_steps():
+    result = run_walk(get_robot("g1"), "mpc", command=(0.2, 0.0, 0.0), nb_steps=10,
+                      progress=False)
+    check_walk(result.metrics, distance_tolerance=0.06, foot_error_cm=5.0, zmp_margin_min=-0.03)
+
+
+@pytest.mark.slow
+def test_large_humanoid_follows_paper_a_path_file():
+    path = ROOT / "experiments" / "paper_a" / "straight.mdat"
+    robot = get_robot("atlas-like")
+    result = run_walk(robot, "mpc", path=path, nb_steps=6, progress=False)
+    m = result.metrics
+    assert m["steps_planned"] == 6 and m["path"] == str(path)
+    plan = result.schedule.plan
+    # the file's two steps in place, then forward steps within paper A's rectangle
+    assert plan.steps[0].xy[0] == pytest.approx(0.0, abs=1e-9)
+    assert max(step.xy[0] for step in plan.steps) > 0.2
+    assert not m["fell"] and m["steps_completed"] == 6
+    assert m["foot_step_error_cm_max"] < 2.0 and m["foot_position_error_cm_max"] < 5.0
+
+
+def test_fall_ends_the_run_early_and_says_why():
+    robot = get_robot("bioloid-like")
+    push = parse_push("1.2,0.2,0,40,0")  # 40 N sideways on a 2 kg robot
+    result = run_walk(robot, "mpc", command=(0.1, 0.0, 0.0), nb_steps=6, pushes=[push],
+                      progress=False)
+    m = result.metrics
+    assert m["fell"] and result.fall.fell
+    assert "base" in m["fall_reason"]
+    assert m["time_simulated_s"] < result.schedule.duration - 1.0
+    assert m["time_simulated_s"] == pytest.approx(m["fall_time_s"])
+    assert m["steps_completed"] < m["steps_planned"]
+    assert m["pushes"] == [[1.2, 0.2, 0.0, 40.0, 0.0]]
+
+
+def test_log_round_trips_and_metrics_match_it(tmp_path):
+    robot = get_robot("bioloid-like")
+    result = run_walk(robot, "mpc", command=(0.1, 0.0, 0.0), nb_steps=1, progress=False,
+                      fall_detector=FallDetector.for_robot(robot))
+    log, schedule = result.log, result.schedule
+    n = len(log)
+    assert n == round(schedule.duration / 0.01)
+    np.testing.assert_allclose(np.diff(log.time), 0.01, atol=1e-9)
+    for name, shape in (("com", (n, 3)), ("cop", (n, 3)), ("sole_positions", (n, 2, 3)),
+                        ("joint_targets", (n, len(robot.joint_names))),
+                        ("actuator_force", (n, robot.mj_model.nu))):
+        assert getattr(log, name).shape == shape
+    saved = np.load(log.save(tmp_path / "walk_log.npz"))
+    np.testing.assert_array_equal(saved["com"], log.com)
+    assert tuple(saved["joint_names"]) == log.joint_names
+    table = np.genfromtxt(log.save(tmp_path / "walk_log.csv"), delimiter=",", names=True)
+    np.testing.assert_allclose(table["cop_x"], log.cop[:, 0], rtol=1e-5, atol=1e-6)
+    assert len(table) == n
+    margins = cop_margins(log, schedule)
+    assert result.metrics["zmp_margin_min_m"] == pytest.approx(np.nanmin(margins))
+    assert result.metrics["steps_completed"] == len(landing_check_times(schedule)) == 2
+    com = log.com[:, :2]
+    assert result.metrics["distance_m"] == pytest.approx(np.linalg.norm(com[-1] - com[0]))
+
+
+def test_leg_limits_and_plans_come_from_the_presets():
+    bioloid, atlas = get_robot("bioloid-like"), get_robot("atlas-like")
+    assert leg_limits(bioloid).half_stance_width == pytest.approx(0.04)
+    assert leg_limits(bioloid).y_sep == pytest.approx(0.04)
+    assert leg_limits(atlas).max_step_forward == pytest.approx(0.30)
+    plan = plan_walk_footsteps(bioloid, command=(0.1, 0.0, 0.0), nb_steps=4)
+    left, right = bioloid.compute_sole_placements(bioloid.q0)
+    np.testing.assert_allclose(plan.initial_left.position, left.translation, atol=1e-12)
+    np.testing.assert_allclose(plan.initial_right.position, right.translation, atol=1e-12)
+    assert plan.nb_steps == 5
+
+
+@pytest.mark.slow
+def test_walk_command_writes_metrics_log_plots_and_video(tmp_path, capsys):
+    out = tmp_path / "walk"
+    code = cli_main(["walk", "--robot", "bioloid-like", "--generator", "mpc", "--vx", "0.1",
+                     "--steps", "2", "--out", str(out), "--video", "--no-progress"])
+    assert code == 0
+    metrics = json.loads((out / "metrics.json").read_text())
+    for key in ("fell", "time_simulated_s", "steps_completed", "distance_m", "yaw_change_deg",
+                "foot_position_error_cm_mean", "foot_position_error_cm_max",
+                "foot_yaw_error_deg_mean", "foot_yaw_error_deg_max", "zmp_margin_min_m",
+                "generator_tick_us_median", "ik_tick_us_median", "real_time_factor",
+                "generator", "robot", "mpc_failures"):
+        assert key in metrics
+    assert metrics["fell"] is False and metrics["robot"] == "bioloid-like"
+    for name in ("walk_log.npz", "top_view.png", "com_cop.png", "walk.mp4"):
+        assert (out / name).stat().st_size > 1000, name
+    assert "no fall" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--robot", "nope", "--duration", "1"], "Unknown robot 'nope'"),
+    (["--generator", "nope", "--duration", "1"], "Unknown pattern generator"),
+    (["--vx", "0.1", "--path", "x.mdat", "--duration", "1"], "not both"),
+    (["--vx", "0.1"], "needs --duration"),
+    (["--vx", "0.5", "--duration", "1"], "vx=0.5"),
+    (["--push", "1,2", "--duration", "1"], "Push '1,2' is malformed"),
+    (["--path", "missing.mdat"], "missing.mdat"),
+])
+def test_walk_command_bad_input_exits_with_code_2(tmp_path, capsys, argv, message):
+    code = cli_main(["walk", "--out", str(tmp_path / "out"), "--no-progress", *argv])
+    assert code == 2
+    assert message in capsys.readouterr().err
+
+
+def test_robots_command_lists_the_robots_that_load(capsys):
+    assert cli_main(["robots"]) == 0
+    output = capsys.readouterr().out
+    for name in ("bioloid-like", "atlas-like", "g1"):
+        assert name in output
