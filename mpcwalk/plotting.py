@@ -34,13 +34,20 @@ def plot_top_view(schedule: ContactSchedule, times, com, zmp, *, title: str = ""
     plt = _pyplot()
     from matplotlib.patches import Polygon
 
+    plan = schedule.plan
+    feet = [plan.initial_left, plan.initial_right, *plan.steps]
     if ax is None:
-        fig, ax = plt.subplots(figsize=(7, 6))
+        xy = np.array([f.xy for f in feet])
+        margin = schedule.foot.length
+        width = np.ptp(xy[:, 0]) + 2 * margin
+        height = np.ptp(xy[:, 1]) + 2 * margin
+        # Size the figure to the walk's aspect (a straight walk is long and thin).
+        fig_width = 10.0
+        fig_height = float(np.clip(7.5 * height / width, 2.0, 8.0)) + 1.2
+        fig, ax = plt.subplots(figsize=(fig_width, fig_height), layout="constrained")
     else:
         fig = ax.figure
     colors = {Side.LEFT: "tab:blue", Side.RIGHT: "tab:red"}
-    plan = schedule.plan
-    feet = [plan.initial_left, plan.initial_right, *plan.steps]
     from .models.support_polygon import foot_rectangle
 
     for i, foot in enumerate(feet):
@@ -54,10 +61,15 @@ def plot_top_view(schedule: ContactSchedule, times, com, zmp, *, title: str = ""
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.grid(True, alpha=0.3)
-    ax.legend(loc="best", fontsize=8)
+    place_legend_below(ax)
     if title:
         ax.set_title(title)
     return fig
+
+
+def place_legend_below(ax) -> None:
+    """Legend beside the axes (right), so that it never hides the walk."""
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
 
 
 def plot_com_zmp(

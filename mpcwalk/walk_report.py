@@ -318,7 +318,7 @@ def plot_walk_top_view(schedule: ContactSchedule, log: WalkLog, *, title: str = 
     Fig. 1a, paper A Fig. 5)."""
     from matplotlib.patches import Polygon
 
-    from .plotting import plot_top_view
+    from .plotting import place_legend_below, plot_top_view
 
     fig = plot_top_view(schedule, log.time, log.com[:, :2], log.cop[:, :2], title=title)
     ax = fig.axes[0]
@@ -342,7 +342,7 @@ def plot_walk_top_view(schedule: ContactSchedule, log: WalkLog, *, title: str = 
         ax.add_patch(Polygon(rect.vertices, closed=True, fill=True, alpha=0.15,
                              color="tab:blue" if j == 0 else "tab:red", lw=0,
                              label="landed soles" if k == 0 else None))
-    ax.legend(loc="best", fontsize=8)
+    place_legend_below(ax)
     return fig
 
 

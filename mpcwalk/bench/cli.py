@@ -59,3 +59,6 @@ def add_bench_parser(sub) -> None:
     from .ik_bench import add_ik_bench_parser
 
     add_ik_bench_parser(bsub)
+    from .loop import add_loop_bench_parser
+
+    add_loop_bench_parser(bsub)

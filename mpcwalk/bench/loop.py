@@ -1,0 +1,176 @@
+"""Whole-loop timing of walks in MuJoCo, per robot and generator, with the IK
+beside pink on the same tasks (issue figures: real-time factor, generator tick,
+IK tick, MuJoCo step).
+
+Each walk runs in this process, one after the other, with the same settings as
+``mpcwalk walk``; the IK comparison is :func:`mpcwalk.bench.ik_bench.run_ik_benchmark`
+in the same run.
+"""
+
+import json
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Dict, List, Sequence, Tuple
+
+#: The walks the robots/MuJoCo issue asks for: (robot, generator, command (vx, vy, vyaw),
+#: number of steps, step duration or None for the preset's).
+TURN = 0.349066  # [rad/s] 20 deg/s, paper M's turning walk
+DEFAULT_WALKS = (
+    ("bioloid-like", "analytic", (0.1, 0.0, 0.0), 20, None),
+    ("bioloid-like", "preview", (0.1, 0.0, 0.0), 20, None),
+    ("bioloid-like", "mpc", (0.1, 0.0, 0.0), 20, None),
+    ("bioloid-like", "analytic", (0.1, 0.0, TURN), 20, None),
+    ("bioloid-like", "preview", (0.1, 0.0, TURN), 20, None),
+    ("bioloid-like", "mpc", (0.1, 0.0, TURN), 20, None),
+    ("atlas-like", "mpc", (0.2, 0.0, 0.0), 10, 1.0),
+    ("g1", "mpc", (0.2, 0.0, 0.0), 10, None),
+)
+
+
+@dataclass(frozen=True)
+class LoopCase:
+    """Timing of one walk.
+
+    Attributes:
+        robot: Robot name.
+        generator: Pattern generator.
+        command: Velocity command (vx [m/s], vy [m/s], vyaw [rad/s]).
+        step_duration_s: Step duration, in [s].
+        fell: Whether the robot fell.
+        steps_completed: Steps landed.
+        time_simulated_s: Simulated time, in [s].
+        real_time_factor: Simulated time / wall time of the whole loop.
+        generator_tick_us: Median generator tick, in [us].
+        ik_tick_us: Median IK tick, in [us].
+        controller_tick_us: Median whole controller tick (generator, trajectories, IK,
+            feedback), in [us].
+        mujoco_step_us: Median physics time per control period (with sensors), in [us].
+        distance_m: Distance travelled by the CoM, in [m].
+        distance_planned_m: Distance between the start and end midpoints of the plan, in [m].
+        yaw_change_deg: Yaw of the base at the end, in [deg].
+        foot_position_error_cm_mean: Landed against planned footsteps, world frame, in [cm].
+        foot_position_error_cm_max: In [cm].
+        foot_yaw_error_deg_max: In [deg].
+        zmp_margin_p05_m: 5th percentile of the measured CoP margin, in [m].
+    """
+
+    robot: str
+    generator: str
+    command: Tuple[float, float, float]
+    step_duration_s: float
+    fell: bool
+    steps_completed: int
+    time_simulated_s: float
+    real_time_factor: float
+    generator_tick_us: float
+    ik_tick_us: float
+    controller_tick_us: float
+    mujoco_step_us: float
+    distance_m: float
+    distance_planned_m: float
+    yaw_change_deg: float
+    foot_position_error_cm_mean: float
+    foot_position_error_cm_max: float
+    foot_yaw_error_deg_max: float
+    zmp_margin_p05_m: float
+
+
+def run_loop_benchmark(walks=DEFAULT_WALKS, *, progress: bool = True) -> List[LoopCase]:
+    """Run every walk and collect its metrics and timing.
+
+    Args:
+        walks: ``(robot, generator, command, nb_steps, step_duration)`` tuples.
+        progress: Show a progress bar over the walks.
+    """
+    from tqdm import tqdm
+
+    from ..walk import run_walk
+
+    cases = []
+    for robot, generator, command, nb_steps, step_duration in tqdm(
+            walks, desc="walks", disable=not progress):
+        result = run_walk(robot, generator, command=command, nb_steps=nb_steps,
+                          step_duration=step_duration, progress=False)
+        m = result.metrics
+        cases.append(LoopCase(
+            robot=robot, generator=generator, command=tuple(command),
+            step_duration_s=float(m["step_duration_s"]), fell=bool(m["fell"]),
+            steps_completed=int(m["steps_completed"]),
+            time_simulated_s=float(m["time_simulated_s"]),
+            real_time_factor=float(m["real_time_factor"]),
+            generator_tick_us=float(m["generator_tick_us_median"]),
+            ik_tick_us=float(m["ik_tick_us_median"]),
+            controller_tick_us=float(m["controller_tick_us_median"]),
+            mujoco_step_us=float(m["mujoco_step_us_median"]),
+            distance_m=float(m["distance_m"]), distance_planned_m=float(m["distance_planned_m"]),
+            yaw_change_deg=float(m["yaw_change_deg"]),
+            foot_position_error_cm_mean=float(m["foot_position_error_cm_mean"] or 0.0),
+            foot_position_error_cm_max=float(m["foot_position_error_cm_max"] or 0.0),
+            foot_yaw_error_deg_max=float(m["foot_yaw_error_deg_max"] or 0.0),
+            zmp_margin_p05_m=float(m["zmp_margin_p05_m"] or 0.0),
+        ))
+    return cases
+
+
+def format_loop_table(cases: Sequence[LoopCase]) -> str:
+    """Markdown tables of the walks: what they did, then what they cost."""
+    lines = [
+        "| robot | generator | command (vx, vy, vyaw) | T [s] | fell | steps | distance (planned) [m] "
+        "| yaw [deg] | foot error mean / max [cm] | foot yaw error max [deg] | CoP margin p5 [cm] |",
+        "|---|---|---|---:|---|---:|---:|---:|---:|---:|---:|",
+    ]
+    for c in cases:
+        lines.append(
+            f"| {c.robot} | {c.generator} | {c.command[0]:g}, {c.command[1]:g}, {c.command[2]:.2f} | "
+            f"{c.step_duration_s:g} | {'yes' if c.fell else 'no'} | {c.steps_completed} | "
+            f"{c.distance_m:.3f} ({c.distance_planned_m:.3f}) | {c.yaw_change_deg:.1f} | "
+            f"{c.foot_position_error_cm_mean:.2f} / {c.foot_position_error_cm_max:.2f} | "
+            f"{c.foot_yaw_error_deg_max:.2f} | {100 * c.zmp_margin_p05_m:.2f} |"
+        )
+    lines += [
+        "",
+        "| robot | generator | command | real-time factor | generator [us] | IK [us] | "
+        "controller [us] | MuJoCo [us] |",
+        "|---|---|---|---:|---:|---:|---:|---:|",
+    ]
+    for c in cases:
+        lines.append(
+            f"| {c.robot} | {c.generator} | {c.command[0]:g}, {c.command[1]:g}, {c.command[2]:.2f} | "
+            f"{c.real_time_factor:.1f} | {c.generator_tick_us:.0f} | {c.ik_tick_us:.0f} | "
+            f"{c.controller_tick_us:.0f} | {c.mujoco_step_us:.0f} |"
+        )
+    return "\n".join(lines)
+
+
+def _run_loop_command(args) -> int:
+    from .ik_bench import format_ik_table, ik_results_as_dicts, run_ik_benchmark
+    from .ticks import machine_description
+
+    cases = run_loop_benchmark(progress=not args.no_progress)
+    robots = sorted({c.robot for c in cases}, key=[w[0] for w in DEFAULT_WALKS].index)
+    ik = run_ik_benchmark(robots, progress=not args.no_progress)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    text = (
+        f"The walks of the robots/MuJoCo issue in MuJoCo, control period 10 ms, one process, "
+        f"walks one after the other; medians per tick. Machine: {machine_description()}.\n"
+        f"Command: `mpcwalk bench loop --out {args.out}`\n\n"
+        + format_loop_table(cases)
+        + "\n\nIK tick, ours beside pink on the same tasks, robot and motion (same run):\n\n"
+        + format_ik_table(ik) + "\n"
+    )
+    print(text)
+    (out / "loop.md").write_text(text)
+    payload: Dict[str, List] = {"walks": [asdict(c) for c in cases], "ik": ik_results_as_dicts(ik)}
+    (out / "loop.json").write_text(json.dumps(payload, indent=2) + "\n")
+    print(f"wrote {out / 'loop.md'} and {out / 'loop.json'}")
+    return 0
+
+
+def add_loop_bench_parser(bsub) -> None:
+    """Add ``bench loop`` to the bench sub-commands."""
+    loop = bsub.add_parser(
+        "loop", help="whole-loop timing of MuJoCo walks per robot, with the IK beside pink")
+    loop.add_argument("--no-progress", action="store_true")
+    loop.add_argument("--out", type=Path, default=Path("results/loop"))
+    loop.set_defaults(bench_func=_run_loop_command)
