@@ -59,6 +59,18 @@ _LAZY = {
     "StaticQPGenerator": ".generators.static_qp",
     "MpcParameters": ".qp",
     "WalkingQP": ".qp",
+    # robots, simulation and the walk load Pinocchio models and MuJoCo
+    "load_robot": ".robots",
+    "robot_names": ".robots",
+    "Robot": ".robots",
+    "WholeBodyIK": ".ik",
+    "IKTargets": ".ik",
+    "Simulation": ".sim",
+    "WalkingController": ".controller",
+    "run_walk": ".walk",
+    "WalkResult": ".walk",
+    "PaperAStateMachine": ".paper_a",
+    "make_stabilizer": ".stabilizers",
 }
 
 
@@ -70,6 +82,8 @@ def __getattr__(name):
     raise AttributeError(f"module 'mpcwalk' has no attribute {name!r}")
 
 __all__ = [
+    "IKTargets", "PaperAStateMachine", "Robot", "Simulation", "WalkResult", "WalkingController",
+    "WholeBodyIK", "load_robot", "make_stabilizer", "robot_names", "run_walk",
     "AnalyticGenerator", "CartTable", "ComState", "ConfigurationError", "ContactSchedule",
     "FootGeometry", "Footstep", "FootstepFileError", "FootstepPlan", "GeneratorNotFound",
     "GeneratorOutput", "Horizon", "InfeasibleCommand", "InfeasibleStep", "LIPM", "LegLimits",

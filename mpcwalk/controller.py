@@ -110,6 +110,8 @@ class WalkingController:
             period is ``control_period``; :meth:`for_robot` builds one by name.
         schedule: Footsteps and contact phases of the walk.
         ik: Whole-body IK of ``robot`` (default: ``WholeBodyIK(robot)``).
+        swing_profile: ``"cosine"`` (paper M) or ``"ctraj"`` (paper A's quintic Cartesian
+            lift and lower), see :class:`~mpcwalk.gait.swing_foot.SwingFootTrajectory`.
         step_height: Swing-foot height [m]; None: the preset's ``[gait] step_height``, else
             :data:`DEFAULT_STEP_HEIGHT`.
         feedback: Close the loop on the measured CoM when a measurement is given.
@@ -120,6 +122,8 @@ class WalkingController:
             planned support polygon (default: a tenth of the sole width).
         servo_feedforward: Add the feed-forward offsets of compliant position servos.
         control_period: Duration of one tick [s].
+        stabilizer: A :class:`~mpcwalk.stabilizers.Stabilizer` correcting the IK targets and
+            the servo targets from the measurement, or None.
 
     Raises:
         ConfigurationError: A CoM height or control period that does not match, a gain out
@@ -140,6 +144,8 @@ class WalkingController:
         servo_feedforward: bool = True,
         zmp_margin: Optional[float] = None,
         control_period: float = 0.01,
+        stabilizer=None,
+        swing_profile: str = "cosine",
     ) -> None:
         if not (np.isfinite(control_period) and control_period > 0.0):
             raise ConfigurationError(
@@ -167,7 +173,7 @@ class WalkingController:
         self.generator = generator
         self.schedule = schedule
         self.ik = ik if ik is not None else WholeBodyIK(robot)
-        self.trajectory = SwingFootTrajectory(schedule, step_height)
+        self.trajectory = SwingFootTrajectory(schedule, step_height, swing_profile)
         self.feedback = bool(feedback)
         self.dcm_feedback = DcmFeedback(
             schedule, generator.lipm.omega, observer_gain=observer_gain, dcm_gain=dcm_gain,
@@ -175,6 +181,7 @@ class WalkingController:
             if zmp_margin is None else zmp_margin)
         self.feedforward = ServoFeedforward(robot) if servo_feedforward else None
         self.control_period = float(control_period)
+        self.stabilizer = stabilizer
         self.omega = float(generator.lipm.omega)
         self.cart_table = CartTable(generator.lipm, self.control_period)
         self.nb_generator_failures = 0
@@ -279,6 +286,8 @@ class WalkingController:
             )
         self.q_ref = q.copy()
         self.nb_generator_failures = 0
+        if self.stabilizer is not None:
+            self.stabilizer.reset(self)
         com = self.robot.compute_com(q)
         output = self.generator.reset(self.schedule, ComState(com[:2], np.zeros(2), np.zeros(2)))
         feet = self.trajectory.foot_poses(output.time)
@@ -324,7 +333,11 @@ class WalkingController:
         self.nb_generator_failures += int(failed)
         feet = self.trajectory.foot_poses(output.time)
         yaw = float(self.trajectory.torso_yaw(output.time))
-        targets = self._targets(output.com, output.time, feet, yaw)
+        com_xy = output.com
+        if self.stabilizer is not None:
+            feet, com_xy, yaw = self.stabilizer.adjust_targets(self, output.time, feet, com_xy,
+                                                               yaw, measurement)
+        targets = self._targets(com_xy, output.time, feet, yaw)
         start = time.perf_counter()
         ik = self.ik.solve(self.q_ref, targets, self.control_period)
         ik_tick = time.perf_counter() - start
@@ -332,6 +345,9 @@ class WalkingController:
         zmp_command = self.dcm_feedback.desired_zmp(output.time, output.zmp, dcm_error)
         zmp_shift = zmp_command - output.zmp
         joint_targets = self._joint_targets(ik, previous.ik.v, zmp_command, zmp_shift, feet)
+        if self.stabilizer is not None:
+            joint_targets = self.stabilizer.adjust_joint_targets(self, output.time, joint_targets,
+                                                                 feet, measurement)
         self.last_output = ControlOutput(
             time=output.time, q_ref=ik.q_next.copy(), joint_targets=joint_targets,
             com_target=targets.com.copy(), zmp_command=zmp_command, dcm_error=dcm_error,

@@ -179,6 +179,7 @@ def run_walk(
     generator_options: Optional[dict] = None,
     controller_options: Optional[dict] = None,
     fall_detector: Optional[FallDetector] = None,
+    stabilizer=None,
 ) -> WalkResult:
     """Simulate a walk of a robot in MuJoCo and measure it.
 
@@ -202,6 +203,8 @@ def run_walk(
         generator_options: Keyword arguments of the generator (override the preset's).
         controller_options: Keyword arguments of the controller (override the preset's).
         fall_detector: Fall detector (default: ``FallDetector.for_robot``).
+        stabilizer: A stabilizer name (``"ankle-imu"``, ``"none"``), a
+            :class:`~mpcwalk.stabilizers.Stabilizer`, or None.
 
     Returns:
         The walk, its log and metrics. A fall ends the run early (``result.fall``).
@@ -232,6 +235,12 @@ def run_walk(
     schedule = ContactSchedule(plan, FootGeometry(*robot.sole_size))
     options = {key: robot.preset.gait[key] for key in _CONTROLLER_KEYS if key in robot.preset.gait}
     options.update(controller_options or {})
+    if isinstance(stabilizer, str):
+        from .stabilizers import make_stabilizer
+
+        stabilizer = make_stabilizer(stabilizer)
+    if stabilizer is not None:
+        options["stabilizer"] = stabilizer
     controller = WalkingController.for_robot(
         robot, generator, schedule, control_period=control_period, feedback=feedback,
         step_height=_gait_value(robot, "step_height", step_height, None),
@@ -252,6 +261,7 @@ def run_walk(
         "step_height_m": controller.trajectory.step_height,
         "com_height_m": robot.com_height,
         "control_period_s": control_period,
+        "stabilizer": getattr(stabilizer, "name", "none"),
         "feedback": feedback, "dcm_gain": controller.dcm_feedback.dcm_gain,
         "observer_gain": controller.dcm_feedback.observer_gain,
         "pushes": [[p.start, p.duration, *map(float, p.force)] for p in pushes],

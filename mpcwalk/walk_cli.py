@@ -44,6 +44,17 @@ def add_walk_parser(sub) -> argparse.ArgumentParser:
                    help="swing-foot height [m] (default: the robot preset's)")
     p.add_argument("--control-period", type=float, default=0.01, help="controller tick [s]")
     p.add_argument("--solver", default=None, help="QP solver of the QP generators")
+    p.add_argument("--stabilizer", choices=("none", "ankle-imu"), default="none",
+                   help="stabilizer on the servo targets (ankle-imu: paper A's ankle strategy "
+                   "and IMU correction)")
+    p.add_argument("--reaim", dest="reaim", action="store_true", default=None,
+                   help="paper A's state machine: re-aim each step from the measured support "
+                   "foot (drift does not accumulate); default: on with --path")
+    p.add_argument("--no-reaim", dest="reaim", action="store_false",
+                   help="follow the planned footsteps without re-aiming")
+    p.add_argument("--swing-profile", choices=("cosine", "ctraj"), default=None,
+                   help="swing foot: paper M's cosines or paper A's quintic Cartesian lift and "
+                   "lower (default: ctraj with --stabilizer ankle-imu, i.e. paper A's gait)")
     p.add_argument("--no-feedback", action="store_true",
                    help="open loop: no measured CoM to the generator, no DCM feedback")
     p.add_argument("--push", action="append", default=[], metavar="T,DURATION,FX,FY,FZ",
@@ -91,8 +102,9 @@ def run_walk_command(args) -> int:
         double_support_ratio=args.ds_ratio, step_height=args.step_height,
         control_period=args.control_period, pushes=pushes,
         video=out / "walk.mp4" if args.video else None, progress=not args.no_progress,
-        feedback=not args.no_feedback,
+        feedback=not args.no_feedback, stabilizer=_stabilizer(args),
         generator_options=None if args.solver is None else {"solver": args.solver},
+        controller_options={"swing_profile": _swing_profile(args)},
     )
     written = [out / "metrics.json"]
     (out / "metrics.json").write_text(json.dumps(result.metrics, indent=2) + "\n")
@@ -114,6 +126,32 @@ def run_walk_command(args) -> int:
     print(summary(m))
     print("wrote " + ", ".join(str(path) for path in written))
     return 1 if m["fell"] else 0
+
+
+def _swing_profile(args) -> str:
+    """``--swing-profile``, by default paper A's with paper A's stabilizer."""
+    if getattr(args, "swing_profile", None):
+        return args.swing_profile
+    return "ctraj" if getattr(args, "stabilizer", "none") == "ankle-imu" else "cosine"
+
+
+def _stabilizer(args):
+    """The stabilizer of ``--stabilizer`` and ``--reaim`` (None: neither); re-aiming is on
+    by default for path files."""
+    from .stabilizers import StabilizerChain, make_stabilizer
+
+    parts = []
+    reaim = getattr(args, "reaim", None)
+    if reaim is None:
+        reaim = getattr(args, "path", None) is not None
+    if reaim:
+        from .paper_a import PaperAStateMachine
+
+        parts.append(PaperAStateMachine())
+    stabilizer = make_stabilizer(getattr(args, "stabilizer", "none"))
+    if stabilizer is not None:
+        parts.append(stabilizer)
+    return StabilizerChain(parts) if parts else None
 
 
 def _format(value, scale: float = 1.0, unit: str = "") -> str:

@@ -192,3 +192,31 @@ def test_bad_arguments_raise():
         SwingFootTrajectory(make_plan())
     with pytest.raises(ConfigurationError, match="finite number of seconds"):
         SwingFootTrajectory(schedule).foot_poses(float("nan"))
+
+
+def test_ctraj_profile_lifts_then_lowers_with_quintic_timing():
+    """Paper A's profile: lift-off pose -> apex above the middle of the step -> landing
+    pose, zero velocity at all three, velocities equal to finite differences."""
+    from mpcwalk.footsteps.footstep import FootstepPlan as Plan
+
+    left, right = Footstep(Side.LEFT, [0.0, 0.1]), Footstep(Side.RIGHT, [0.0, -0.1])
+    plan = Plan(left, right, [Footstep(Side.RIGHT, [0.3, -0.1], 0.2)],
+                StepTiming(step_duration=2.0, double_support_ratio=0.5))
+    schedule = ContactSchedule(plan)
+    traj = SwingFootTrajectory(schedule, step_height=0.1, profile="ctraj")
+    t_b, t_e = schedule.walk_start + schedule.t_b, schedule.walk_start + schedule.t_e
+    eps = 1e-6
+    start, apex, end = (traj.foot_poses(t).right for t in (t_b + eps, 0.5 * (t_b + t_e), t_e - eps))
+    np.testing.assert_allclose(start.position, [0.0, -0.1, 0.0], atol=1e-9)
+    np.testing.assert_allclose(apex.position, [0.15, -0.1, 0.1], atol=1e-12)
+    np.testing.assert_allclose(end.position, [0.3, -0.1, 0.0], atol=1e-9)
+    assert apex.yaw == pytest.approx(0.1, abs=1e-12)
+    for state in (start, apex, end):
+        assert np.abs(state.linear_velocity[2]) < 1e-6
+    assert np.linalg.norm(start.linear_velocity) < 1e-6 and np.linalg.norm(end.linear_velocity) < 1e-6
+    h = 1e-5
+    for t in np.linspace(t_b + 0.05, t_e - 0.05, 17):
+        fd = (traj.foot_poses(t + h).right.position - traj.foot_poses(t - h).right.position) / (2 * h)
+        np.testing.assert_allclose(traj.foot_poses(t).right.linear_velocity, fd, atol=1e-7)
+    with pytest.raises(ConfigurationError, match="Swing profile must be one of cosine, ctraj"):
+        SwingFootTrajectory(schedule, profile="spline")

@@ -104,6 +104,10 @@ def _static_state(foot: Footstep) -> FootState:
     return FootState(_frozen(foot.position), foot.yaw, _frozen(np.zeros(3)), 0.0, True)
 
 
+#: Swing-foot profiles: paper M's cosines, paper A's Cartesian quintic lift and lower.
+SWING_PROFILES = ("cosine", "ctraj")
+
+
 class SwingFootTrajectory:
     """Feet and torso-yaw references along a contact schedule (paper M).
 
@@ -112,13 +116,25 @@ class SwingFootTrajectory:
         step_height: Maximum height ``z_step`` of the swing foot above the
             ground, reached in the middle of single support, in [m]
             (paper M, Table 1: 0.04 m).
+        profile: ``"cosine"`` (paper M eq. 21-23: h and v) or ``"ctraj"``
+            (paper A: the foot is lifted from its pose to an apex above the
+            middle of the step, then lowered onto the landing pose, each half
+            a Cartesian trajectory with the quintic time law of
+            :func:`~mpcwalk.gait.ctraj.ctraj`: zero velocity and acceleration
+            at lift-off, apex and touchdown).
 
     Raises:
         ConfigurationError: If ``schedule`` is not a ContactSchedule or
             ``step_height`` is negative or not finite.
     """
 
-    def __init__(self, schedule: ContactSchedule, step_height: float = 0.04) -> None:
+    def __init__(self, schedule: ContactSchedule, step_height: float = 0.04,
+                 profile: str = "cosine") -> None:
+        if profile not in SWING_PROFILES:
+            raise ConfigurationError(
+                f"Swing profile must be one of {', '.join(SWING_PROFILES)}, got {profile!r}."
+            )
+        self.profile = profile
         if not isinstance(schedule, ContactSchedule):
             raise ConfigurationError(
                 f"SwingFootTrajectory needs a ContactSchedule, got "
@@ -212,10 +228,29 @@ class SwingFootTrajectory:
         self, t: float, lift: Footstep, landing: Footstep, h: float, dh: float
     ) -> FootState:
         phi = self.schedule.step_phase(t)
+        if self.profile == "ctraj":
+            h, dh, v, dv = self._ctraj_interpolants(phi)
+            return self._blend(lift, landing, h, dh, v, dv)
         v = swing_height_profile(phi, self.phi_b, self.phi_e)
         dv = swing_height_profile_derivative(
             phi, self.phi_b, self.phi_e, step_duration=self.step_duration
         )
+        return self._blend(lift, landing, h, dh, v, dv)
+
+    def _ctraj_interpolants(self, phi: float) -> Tuple[float, float, float, float]:
+        """Paper A's lift-then-lower profile: fraction of the step ``h`` and of the
+        height ``v`` with their time derivatives, each half on the quintic law."""
+        span = (self.phi_e - self.phi_b) * self.step_duration  # single support [s]
+        s = min(max((phi - self.phi_b) / (self.phi_e - self.phi_b), 0.0), 1.0)
+        half = 2.0 * s if s < 0.5 else 2.0 * s - 1.0
+        r = half**3 * (10.0 - 15.0 * half + 6.0 * half**2)
+        dr = 30.0 * half**2 * (1.0 - half) ** 2 * (2.0 / span)  # d r / d t
+        if s < 0.5:  # lift: pose -> apex
+            return 0.5 * r, 0.5 * dr, r, dr
+        return 0.5 + 0.5 * r, 0.5 * dr, 1.0 - r, -dr  # lower: apex -> landing
+
+    def _blend(self, lift: Footstep, landing: Footstep, h: float, dh: float, v: float,
+               dv: float) -> FootState:
         delta = landing.position - lift.position
         delta_yaw = float(wrap_angle(landing.yaw - lift.yaw))
         lift_direction = np.array([0.0, 0.0, self.step_height])
