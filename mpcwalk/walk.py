@@ -22,7 +22,7 @@ from .controller import WalkingController
 from .exceptions import ConfigurationError
 from .footsteps.footstep import FootGeometry, Footstep, FootstepPlan, Side, StepTiming, wrap_angle
 from .footsteps.mdat import PathWaypoint, plan_from_path, read_mdat
-from .footsteps.velocity_planner import LegLimits, VelocityCommand, VelocityPlanner
+from .footsteps.velocity_planner import LegLimits, VelocityCommand, VelocityPlanner, as_velocity_command
 from .gait.contact_schedule import ContactSchedule
 from .robots import Robot, load_robot
 from .sim import ExternalForce, FallDetector, FallStatus, Simulation, SimulationUnstable
@@ -212,14 +212,8 @@ def run_walk(
     Raises:
         MpcwalkError: Bad input (unknown robot or generator, infeasible command, bad file).
     """
-    if command is not None and not isinstance(command, VelocityCommand):
-        try:
-            values = np.asarray(command, dtype=float).ravel()
-        except (TypeError, ValueError):
-            values = np.empty(0)
-        if values.shape != (3,):
-            raise ConfigurationError(f"A velocity command is (vx, vy, vyaw), got {command!r}.")
-        command = VelocityCommand(*values)
+    if command is not None:
+        command = as_velocity_command(command)
     robot = robot_name if isinstance(robot_name, Robot) else load_robot(
         robot_name, visual=video is not None)
     period = float(_gait_value(robot, "step_duration", step_duration, 0.5))

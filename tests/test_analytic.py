@@ -4,10 +4,6 @@ import numpy as np
 import pytest
 
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.footsteps.footstep import (
-    FootGeometry, Footstep, FootstepPlan, Side, StepTiming, rotation_2d,
-)
-from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators import make_generator, rollout
 from mpcwalk.generators.analytic import AnalyticGenerator, closed_form_step
 from mpcwalk.metrics import support_margins

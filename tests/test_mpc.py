@@ -7,9 +7,7 @@ import pytest
 import qpsolvers
 
 from mpcwalk.exceptions import ConfigurationError, NoSolutionFound, SolverNotFound
-from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side, StepTiming, rotation_2d
-from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.generators import ComState, make_generator, rollout
+from mpcwalk.generators import ComState, make_generator
 from mpcwalk.generators.mpc import MpcGenerator
 from mpcwalk.metrics import support_margins
 from plans import velocity_schedule as arc_schedule

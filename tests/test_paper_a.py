@@ -1,6 +1,5 @@
 """Paper A: state machine, clamping with carried remainder, path errors, closed-loop walk."""
 
-import math
 from pathlib import Path
 
 import numpy as np

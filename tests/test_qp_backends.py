@@ -13,7 +13,7 @@ from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators.mpc import MpcGenerator
 from mpcwalk.generators.static_qp import StaticQPGenerator
 from mpcwalk.models.lipm import LIPM
-from mpcwalk.qp import MpcParameters, QPResult, WalkingQP, make_solver, solver_names
+from mpcwalk.qp import QPResult, WalkingQP, make_solver, solver_names
 from mpcwalk.qp.casadi_solver import available_plugins
 from mpcwalk.qp.solvers import DEFINITE_SOLVERS
 

@@ -4,10 +4,6 @@ import numpy as np
 import pytest
 
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.footsteps.footstep import (
-    FootGeometry, Footstep, FootstepPlan, Side, StepTiming, rotation_2d,
-)
-from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators import make_generator, rollout
 from mpcwalk.generators.static import StaticGenerator, quintic
 from mpcwalk.metrics import support_margins

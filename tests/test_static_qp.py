@@ -6,8 +6,6 @@ import numpy as np
 import pytest
 
 from mpcwalk.exceptions import NoSolutionFound
-from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side, StepTiming, rotation_2d
-from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators import make_generator
 from mpcwalk.generators.static_qp import StaticQPGenerator
 from mpcwalk.metrics import support_margins

@@ -5,8 +5,6 @@ import pytest
 
 from mpcwalk.exceptions import ConfigurationError, NotReset
 from mpcwalk.generators.mpc import MpcGenerator
-from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side, StepTiming, rotation_2d
-from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.metrics import support_margins
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.lipm import LIPM

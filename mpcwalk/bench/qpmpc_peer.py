@@ -14,7 +14,7 @@ from typing import Optional
 import numpy as np
 
 from ..gait.contact_schedule import ContactSchedule
-from ..generators.pattern_generator import ComState, GeneratorOutput, Horizon, PatternGenerator, SolveInfo
+from ..generators.pattern_generator import ComState, GeneratorOutput, PatternGenerator, SolveInfo
 from ..models.cart_table import CartTable
 
 

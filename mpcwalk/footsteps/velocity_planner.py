@@ -143,6 +143,19 @@ def integrate_torso(command: VelocityCommand, start, nb_samples: int, sampling_p
     return poses
 
 
+def as_velocity_command(command) -> "VelocityCommand":
+    """A :class:`VelocityCommand` from itself or any three numbers (vx, vy, vyaw)."""
+    if isinstance(command, VelocityCommand):
+        return command
+    try:
+        values = np.asarray(command, dtype=float).ravel()
+    except (TypeError, ValueError):
+        values = np.empty(0)
+    if values.shape != (3,):
+        raise ConfigurationError(f"A velocity command is (vx, vy, vyaw), got {command!r}.")
+    return VelocityCommand(*values)
+
+
 class VelocityPlanner:
     """Footsteps that follow a velocity command (paper M, sec. 3.1).
 
@@ -212,14 +225,7 @@ class VelocityPlanner:
             InfeasibleCommand: The command exceeds the legs' reach.
             ConfigurationError: NaN command, negative ``nb_steps``, bad side.
         """
-        if not isinstance(command, VelocityCommand):
-            try:
-                values = np.asarray(command, dtype=float).ravel()
-            except (TypeError, ValueError):
-                values = np.empty(0)
-            if values.shape != (3,):
-                raise ConfigurationError(f"A velocity command is (vx, vy, vyaw), got {command!r}.")
-            command = VelocityCommand(*values)
+        command = as_velocity_command(command)
         if isinstance(nb_steps, bool) or not isinstance(nb_steps, (int, np.integer)) or nb_steps < 0:
             raise ConfigurationError(f"nb_steps must be a non-negative integer, got {nb_steps!r}.")
         self.check_command(command)

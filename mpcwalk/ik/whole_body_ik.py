@@ -188,7 +188,7 @@ class WholeBodyIK:
         """Fill the QP of one step at q: (H, c, lower, upper) on the actuated joints."""
         model, data, gain = self.model, self.data, self.gain
         update_kinematics(model, data, q)
-        A, r, e, rows = self._A, self._r, self._e, self._rows
+        A, r, e = self._A, self._r, self._e
         for task, block in zip(self.tasks, self._blocks):
             e[block], A[block], feedforward_rate = task.compute_linearization(
                 model, data, q, feedforward)
