@@ -62,3 +62,6 @@ def add_bench_parser(sub) -> None:
     from .loop import add_loop_bench_parser
 
     add_loop_bench_parser(bsub)
+    from .solver_cli import add_solver_bench_parser
+
+    add_solver_bench_parser(bsub)
