@@ -313,6 +313,17 @@ def cop_margins(log: WalkLog, schedule: ContactSchedule) -> np.ndarray:
     return margins
 
 
+def _label_as_measured(ax) -> None:
+    """The planning plots draw a planned ZMP and CoM; here they are the measured CoP and CoM."""
+    for line in ax.get_lines():
+        if line.get_label() == "ZMP":
+            line.set_label("CoP (measured)")
+            line.set_color("tab:red")
+            line.set_linewidth(0.6)
+        elif line.get_label() == "CoM":
+            line.set_label("CoM (measured)")
+
+
 def plot_walk_top_view(schedule: ContactSchedule, log: WalkLog, *, title: str = ""):
     """Planned footsteps, landed soles, measured CoM and CoP seen from above (paper M
     Fig. 1a, paper A Fig. 5)."""
@@ -322,13 +333,7 @@ def plot_walk_top_view(schedule: ContactSchedule, log: WalkLog, *, title: str = 
 
     fig = plot_top_view(schedule, log.time, log.com[:, :2], log.cop[:, :2], title=title)
     ax = fig.axes[0]
-    for line in ax.get_lines():
-        if line.get_label() == "ZMP":
-            line.set_label("CoP (measured)")
-            line.set_color("tab:red")
-            line.set_linewidth(0.6)
-        elif line.get_label() == "CoM":
-            line.set_label("CoM (measured)")
+    _label_as_measured(ax)
     ax.plot(log.com_reference[:, 0], log.com_reference[:, 1], "--", color="0.5", lw=1.0,
             label="CoM reference")
     checks = landing_check_times(schedule)
@@ -353,13 +358,7 @@ def plot_walk_over_time(schedule: ContactSchedule, log: WalkLog, *, title: str =
     fig = plot_com_zmp(schedule, log.time, log.com[:, :2], log.cop[:, :2],
                        zmp_reference=log.zmp_reference, title=title)
     for axis, ax in enumerate(fig.axes):
-        for line in ax.get_lines():
-            if line.get_label() == "ZMP":
-                line.set_label("CoP (measured)")
-                line.set_color("tab:red")
-                line.set_linewidth(0.6)
-            elif line.get_label() == "CoM":
-                line.set_label("CoM (measured)")
+        _label_as_measured(ax)
         ax.plot(log.time, log.com_reference[:, axis], "--", color="0.4", lw=1.0,
                 label="CoM reference")
     fig.axes[0].legend(loc="best", fontsize=8)

@@ -7,6 +7,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import ConfigurationError
+from .tasks import finite_vector
 
 _ROTATION_TOLERANCE = 1e-6
 
@@ -18,16 +19,7 @@ def _frozen(array: np.ndarray) -> np.ndarray:
 
 
 def _as_vector(value, size: int, name: str) -> np.ndarray:
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        array = np.full(0, np.nan)
-    if array.shape != (size,) or not np.all(np.isfinite(array)):
-        raise ConfigurationError(
-            f"IK target {name} must be an array of {size} finite numbers, got shape "
-            f"{np.shape(value)}; pass e.g. np.zeros({size})."
-        )
-    return _frozen(array)
+    return _frozen(finite_vector(value, size, f"IK target {name}"))
 
 
 def _as_rotation(value, name: str) -> np.ndarray:

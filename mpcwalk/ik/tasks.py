@@ -44,14 +44,16 @@ def _weights(value: Union[float, Sequence[float]], size: int, name: str) -> np.n
     return weights
 
 
-def _vector(value, size: int, name: str) -> np.ndarray:
+def finite_vector(value, size: int, name: str) -> np.ndarray:
+    """``value`` as a float array of shape (size,), or a ConfigurationError naming ``name``."""
     try:
         array = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
         array = np.full(0, np.nan)
     if array.shape != (size,) or not np.all(np.isfinite(array)):
         raise ConfigurationError(
-            f"{name} must be {size} finite numbers, got shape {np.shape(value)}: {value!r}."
+            f"{name} must be an array of {size} finite numbers, got shape {np.shape(value)}: "
+            f"{value!r}; pass e.g. np.zeros({size})."
         )
     return array
 
@@ -110,9 +112,9 @@ class ComTask(Task):
 
     def set_target(self, com: np.ndarray, velocity: Optional[np.ndarray] = None) -> None:
         """Target CoM position [m] and, optionally, its velocity [m/s], world frame."""
-        self.target = _vector(com, 3, "CoM target")
+        self.target = finite_vector(com, 3, "CoM target")
         self.target_velocity = (
-            np.zeros(3) if velocity is None else _vector(velocity, 3, "CoM target velocity")
+            np.zeros(3) if velocity is None else finite_vector(velocity, 3, "CoM target velocity")
         )
 
     def compute_error(self, model, data, q) -> np.ndarray:
@@ -193,7 +195,7 @@ class FrameTask(Task):
         self.target = pose
         self._target_rotation_t = pose.rotation.T.copy()
         self.target_velocity = (
-            np.zeros(6) if velocity is None else _vector(velocity, 6, "frame target velocity")
+            np.zeros(6) if velocity is None else finite_vector(velocity, 6, "frame target velocity")
         )
 
     def _rotation_error(self, data: pin.Data) -> np.ndarray:
@@ -267,7 +269,7 @@ class PostureTask(Task):
 
     def set_target(self, model: pin.Model, reference: np.ndarray) -> None:
         """Reference configuration, shape (nq,)."""
-        self.reference = _vector(reference, model.nq, "posture reference").copy()
+        self.reference = finite_vector(reference, model.nq, "posture reference").copy()
 
     def compute_error(self, model, data, q) -> np.ndarray:
         """Joint displacement from the reference [rad]."""
