@@ -71,6 +71,8 @@ _LAZY = {
     "WalkResult": ".walk",
     "PaperAStateMachine": ".paper_a",
     "make_stabilizer": ".stabilizers",
+    "GyroStabilizer": ".stabilizers.gyro",
+    "ArmSwing": ".gait.arm_swing",
 }
 
 
@@ -82,7 +84,7 @@ def __getattr__(name):
     raise AttributeError(f"module 'mpcwalk' has no attribute {name!r}")
 
 __all__ = [
-    "IKTargets", "PaperAStateMachine", "Robot", "Simulation", "WalkResult", "WalkingController",
+    "ArmSwing", "GyroStabilizer", "IKTargets", "PaperAStateMachine", "Robot", "Simulation", "WalkResult", "WalkingController",
     "WholeBodyIK", "load_robot", "make_stabilizer", "robot_names", "run_walk",
     "AnalyticGenerator", "CartTable", "ComState", "ConfigurationError", "ContactSchedule",
     "FootGeometry", "Footstep", "FootstepFileError", "FootstepPlan", "GeneratorNotFound",

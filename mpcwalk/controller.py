@@ -31,6 +31,7 @@ import pinocchio as pin
 from .compliance import ServoFeedforward
 from .dcm_feedback import DcmFeedback
 from .exceptions import ConfigurationError, NoSolutionFound, NotReset
+from .gait.arm_swing import ArmSwing
 from .gait.contact_schedule import ContactSchedule
 from .gait.swing_foot import FeetState, SwingFootTrajectory
 from .generators.pattern_generator import ComState, GeneratorOutput, PatternGenerator, SolveInfo
@@ -115,7 +116,8 @@ class WalkingController:
         step_height: Swing-foot height [m]; None: the preset's ``[gait] step_height``, else
             :data:`DEFAULT_STEP_HEIGHT`.
         feedback: Close the loop on the measured CoM when a measurement is given.
-        observer_gain: Share in [0, 1] of the measured CoM error given to the generator (see
+        observer_gain: Share in [0, 1] of the measured CoM error given to the generator
+            (default: the generator's :attr:`~PatternGenerator.observer_gain`; see
             :mod:`mpcwalk.dcm_feedback` for what it costs).
         dcm_gain: ZMP shift per metre of DCM error, >= 0 (> 1 makes the error decay).
         zmp_margin: The desired ZMP with the DCM feedback is kept this far [m] inside the
@@ -124,6 +126,13 @@ class WalkingController:
         control_period: Duration of one tick [s].
         stabilizer: A :class:`~mpcwalk.stabilizers.Stabilizer` correcting the IK targets and
             the servo targets from the measurement, or None.
+        arm_swing: Paper M's arm movement factor s (eq. 24-25; 0.8 in the paper): the
+            shoulder pitch joints swing each hand with the opposite foot. 0 keeps the arms in
+            their nominal posture.
+
+    A footstep-adaptive generator may move the future footsteps: when its output carries a
+    new schedule (:attr:`GeneratorOutput.schedule`), the controller follows it from that
+    tick on (swing-foot landing, support polygons of the DCM feedback).
 
     Raises:
         ConfigurationError: A CoM height or control period that does not match, a gain out
@@ -139,13 +148,14 @@ class WalkingController:
         ik: Optional[WholeBodyIK] = None,
         step_height: Optional[float] = None,
         feedback: bool = True,
-        observer_gain: float = 0.05,
+        observer_gain: Optional[float] = None,
         dcm_gain: float = 3.0,
         servo_feedforward: bool = True,
         zmp_margin: Optional[float] = None,
         control_period: float = 0.01,
         stabilizer=None,
         swing_profile: str = "cosine",
+        arm_swing: float = 0.0,
     ) -> None:
         if not (np.isfinite(control_period) and control_period > 0.0):
             raise ConfigurationError(
@@ -176,12 +186,15 @@ class WalkingController:
         self.trajectory = SwingFootTrajectory(schedule, step_height, swing_profile)
         self.feedback = bool(feedback)
         self.dcm_feedback = DcmFeedback(
-            schedule, generator.lipm.omega, observer_gain=observer_gain, dcm_gain=dcm_gain,
+            schedule, generator.lipm.omega, dcm_gain=dcm_gain,
+            observer_gain=generator.observer_gain if observer_gain is None else observer_gain,
             zmp_margin=0.1 * min(schedule.foot.length, schedule.foot.width)
             if zmp_margin is None else zmp_margin)
         self.feedforward = ServoFeedforward(robot) if servo_feedforward else None
         self.control_period = float(control_period)
         self.stabilizer = stabilizer
+        self.arm_swing = ArmSwing(robot, arm_swing) if arm_swing else None
+        self._initial_schedule = schedule
         self.omega = float(generator.lipm.omega)
         self.cart_table = CartTable(generator.lipm, self.control_period)
         self.nb_generator_failures = 0
@@ -269,6 +282,24 @@ class WalkingController:
         return joint_targets + self.feedforward.compute_offsets(ik.q_next, weights, ik.v,
                                                                 acceleration)
 
+    def follow_schedule(self, schedule: ContactSchedule) -> None:
+        """Follow ``schedule`` from now on (a footstep-adaptive generator moved footsteps):
+        the swing foot lands on its footsteps, from where it is now (no jump), and the DCM
+        feedback uses its polygons."""
+        if schedule is not self.schedule:
+            self._use_schedule(schedule, continue_swing=True)
+
+    def _use_schedule(self, schedule: ContactSchedule, continue_swing: bool) -> None:
+        previous = self.trajectory
+        self.schedule = schedule
+        self.trajectory = SwingFootTrajectory(schedule, previous.step_height, previous.profile)
+        self.dcm_feedback.set_schedule(schedule)
+        if continue_swing and self.last_output is not None:  # the swing goes on from its pose
+            t = self.last_output.time
+            side = self.last_output.feet.swing_side
+            if side is not None:
+                self.trajectory.restart_swing(t, previous.foot_poses(t)[side])
+
     # ------------------------------------------------------------------ protocol
     def reset(self, q: Optional[np.ndarray] = None) -> ControlOutput:
         """Start the walk from configuration ``q`` (default ``robot.q0``), at rest.
@@ -286,6 +317,7 @@ class WalkingController:
             )
         self.q_ref = q.copy()
         self.nb_generator_failures = 0
+        self._use_schedule(self._initial_schedule, continue_swing=False)
         if self.stabilizer is not None:
             self.stabilizer.reset(self)
         com = self.robot.compute_com(q)
@@ -331,6 +363,8 @@ class WalkingController:
         output, failed = self._step_generator(generator_input)
         generator_tick = time.perf_counter() - start
         self.nb_generator_failures += int(failed)
+        if output.schedule is not None and output.schedule is not self.schedule:
+            self.follow_schedule(output.schedule)
         feet = self.trajectory.foot_poses(output.time)
         yaw = float(self.trajectory.torso_yaw(output.time))
         com_xy = output.com
@@ -341,6 +375,9 @@ class WalkingController:
         start = time.perf_counter()
         ik = self.ik.solve(self.q_ref, targets, self.control_period)
         ik_tick = time.perf_counter() - start
+        if self.arm_swing is not None:
+            ik.q_next[7 + self.arm_swing.joint_indices] = self.arm_swing.joint_angles(
+                com_xy, feet.left.position, feet.right.position, yaw)
         self.q_ref = ik.q_next
         zmp_command = self.dcm_feedback.desired_zmp(output.time, output.zmp, dcm_error)
         zmp_shift = zmp_command - output.zmp

@@ -26,7 +26,7 @@ from .footsteps.velocity_planner import LegLimits, VelocityCommand, VelocityPlan
 from .gait.contact_schedule import ContactSchedule
 from .robots import Robot, load_robot
 from .sim import ExternalForce, FallDetector, FallStatus, Simulation, SimulationUnstable
-from .walk_report import WalkLog, compute_walk_metrics
+from .walk_report import WalkLog, compute_walk_metrics, yaw_deviation_deg
 
 _LIMIT_KEYS = ("max_step_forward", "max_step_backward", "max_step_lateral", "max_step_yaw",
                "max_step_yaw_inward", "y_sep", "half_stance_width")
@@ -152,10 +152,13 @@ def _gait_value(robot: Robot, key: str, value, default):
 
 def _generator_options(robot: Robot, generator: str, options: Optional[dict]) -> dict:
     merged = {}
-    if generator == "mpc":
+    if generator in ("mpc", "mpc-steps"):
         for key, (name, cast) in _MPC_KEYS.items():
-            if key in robot.preset.gait:
+            # the jerk weight's scale differs in the footstep-adaptive MPC's cost
+            if key in robot.preset.gait and (generator == "mpc" or key != "mpc_jerk_weight"):
                 merged[name] = cast(robot.preset.gait[key])
+    if generator == "mpc-steps":
+        merged["reachability"] = leg_limits(robot)
     merged.update(options or {})
     return merged
 
@@ -180,6 +183,8 @@ def run_walk(
     controller_options: Optional[dict] = None,
     fall_detector: Optional[FallDetector] = None,
     stabilizer=None,
+    arm_swing: float = 0.0,
+    yaw_reference: bool = False,
 ) -> WalkResult:
     """Simulate a walk of a robot in MuJoCo and measure it.
 
@@ -205,6 +210,10 @@ def run_walk(
         fall_detector: Fall detector (default: ``FallDetector.for_robot``).
         stabilizer: A stabilizer name (``"ankle-imu"``, ``"none"``), a
             :class:`~mpcwalk.stabilizers.Stabilizer`, or None.
+        arm_swing: Paper M's arm movement factor s (eq. 24-25; paper M: 0.8, 0: arms still).
+        yaw_reference: With ``pushes``, also simulate the same walk without them and report
+            ``metrics["yaw_deviation_deg"]``, the largest yaw difference after the last push
+            (paper M's measure of the stabilizer); doubles the cost.
 
     Returns:
         The walk, its log and metrics. A fall ends the run early (``result.fall``).
@@ -233,6 +242,8 @@ def run_walk(
         from .stabilizers import make_stabilizer
 
         stabilizer = make_stabilizer(stabilizer)
+    if arm_swing:
+        options["arm_swing"] = arm_swing
     if stabilizer is not None:
         options["stabilizer"] = stabilizer
     controller = WalkingController.for_robot(
@@ -243,6 +254,7 @@ def run_walk(
     detector = fall_detector or FallDetector.for_robot(robot)
     log, fall, wall_time = _simulate(robot, controller, simulation, detector, video, progress,
                                      f"{robot.name} {generator}")
+    schedule = controller.schedule  # with the footsteps a footstep-adaptive generator moved
     metrics = compute_walk_metrics(log, schedule, robot, fall=fall, wall_time=wall_time,
                                    nb_generator_failures=controller.nb_generator_failures)
     metrics.update({
@@ -259,7 +271,18 @@ def run_walk(
         "feedback": feedback, "dcm_gain": controller.dcm_feedback.dcm_gain,
         "observer_gain": controller.dcm_feedback.observer_gain,
         "pushes": [[p.start, p.duration, *map(float, p.force)] for p in pushes],
+        "arm_swing": float(arm_swing),
     })
+    if yaw_reference and pushes:
+        reference = run_walk(
+            robot, generator, command=command, path=path, nb_steps=nb_steps,
+            step_duration=timing.step_duration,
+            double_support_ratio=timing.double_support_ratio, step_height=step_height,
+            control_period=control_period, progress=False, feedback=feedback,
+            generator_options=generator_options, controller_options=controller_options,
+            fall_detector=fall_detector, stabilizer=stabilizer, arm_swing=arm_swing)
+        after = max(p.start + p.duration for p in pushes)
+        metrics["yaw_deviation_deg"] = yaw_deviation_deg(log, reference.log, after)
     return WalkResult(robot.name, generator, schedule, log, fall, metrics)
 
 

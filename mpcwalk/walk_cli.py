@@ -11,6 +11,7 @@ import json
 from pathlib import Path
 
 from .exceptions import ConfigurationError
+from .stabilizers import STABILIZER_NAMES
 
 
 def add_walk_parser(sub) -> argparse.ArgumentParser:
@@ -44,9 +45,14 @@ def add_walk_parser(sub) -> argparse.ArgumentParser:
                    help="swing-foot height [m] (default: the robot preset's)")
     p.add_argument("--control-period", type=float, default=0.01, help="controller tick [s]")
     p.add_argument("--solver", default=None, help="QP solver of the QP generators")
-    p.add_argument("--stabilizer", choices=("none", "ankle-imu"), default="none",
+    p.add_argument("--stabilizer", choices=STABILIZER_NAMES, default="none",
                    help="stabilizer on the servo targets (ankle-imu: paper A's ankle strategy "
-                   "and IMU correction)")
+                   "and IMU correction; gyro: paper M's leg offsets from the torso's roll and "
+                   "pitch rates, eq. 26-30)")
+    p.add_argument("--arm-swing", type=float, default=0.0, metavar="S",
+                   help="paper M's arm swing factor s (eq. 24-25): each hand moves forward by "
+                   "s times the opposite foot's displacement; paper M uses 0.8 (default 0: "
+                   "arms still)")
     p.add_argument("--reaim", dest="reaim", action="store_true", default=None,
                    help="paper A's state machine: re-aim each step from the measured support "
                    "foot (drift does not accumulate); default: on with --path")
@@ -105,6 +111,7 @@ def run_walk_command(args) -> int:
         feedback=not args.no_feedback, stabilizer=_stabilizer(args),
         generator_options=None if args.solver is None else {"solver": args.solver},
         controller_options={"swing_profile": _swing_profile(args)},
+        arm_swing=args.arm_swing, yaw_reference=bool(pushes),
     )
     written = [out / "metrics.json"]
     (out / "metrics.json").write_text(json.dumps(result.metrics, indent=2) + "\n")

@@ -20,7 +20,16 @@ Metrics of :func:`compute_walk_metrics` (units in the key names):
   ``controller_tick_us_median`` and ``real_time_factor`` (simulated time over the loop's wall
   time, one process);
 - ``torque_saturation_share`` (ticks with a servo at its torque limit), ``mpc_failures``
-  (ticks whose generator reported a failed solve).
+  (ticks whose generator reported a failed solve);
+- ``yaw_rate_deg_s``: mean yaw rate of the IMU over the walking phases (single and double
+  supports) with the start-up and the stop excluded, i.e. from the end of the first step to
+  the end of the one before the last (the closing step of a velocity command), or to the
+  fall, beside ``yaw_rate_planned_deg_s``, the rate of the footsteps' heading over the same
+  steps;
+- ``roll_max_deg``, ``pitch_max_deg``: largest IMU roll and pitch away from their values at
+  the start;
+- ``yaw_deviation_deg`` (:func:`yaw_deviation_deg`): after the last push, the largest
+  difference of IMU yaw with the same walk without the pushes (None without a reference).
 """
 
 from dataclasses import dataclass, fields
@@ -299,7 +308,45 @@ def compute_walk_metrics(log: WalkLog, schedule: ContactSchedule, robot, *, fall
     saturated = np.abs(log.actuator_force) >= 0.99 * log.torque_limit
     metrics["torque_saturation_share"] = float(np.mean(saturated.any(axis=1))) if len(log) else 0.0
     metrics["mpc_failures"] = int(nb_generator_failures)
+    metrics.update(_attitude_metrics(log, schedule, end))
+    metrics["yaw_deviation_deg"] = None
     return metrics
+
+
+def _attitude_metrics(log: WalkLog, schedule: ContactSchedule, end: float) -> Dict[str, Any]:
+    """Yaw rate over the walking phases (start-up excluded), roll/pitch excursions."""
+    if not len(log):
+        return {"yaw_rate_deg_s": None, "yaw_rate_planned_deg_s": None, "roll_max_deg": None,
+                "pitch_max_deg": None}
+    rpy = np.unwrap(log.base_rpy, axis=0)
+    excursion = np.degrees(np.abs(rpy - rpy[0]).max(axis=0))
+    metrics = {"roll_max_deg": float(excursion[0]), "pitch_max_deg": float(excursion[1]),
+               "yaw_rate_deg_s": None, "yaw_rate_planned_deg_s": None}
+    start = schedule.walk_start + schedule.step_duration
+    stop = min(schedule.walk_end - schedule.step_duration, end)
+    nb_steps = int(np.floor((stop - schedule.walk_start) / schedule.step_duration + 1e-9))
+    stop = schedule.walk_start + nb_steps * schedule.step_duration
+    if stop - start < schedule.step_duration - 1e-9:
+        return metrics
+    yaw_start, yaw_stop = np.interp([start, stop], log.time, rpy[:, 2])
+    metrics["yaw_rate_deg_s"] = float(np.degrees(yaw_stop - yaw_start) / (stop - start))
+    planned = _planned_yaw_change(schedule, nb_steps + 1) - _planned_yaw_change(schedule, 2)
+    metrics["yaw_rate_planned_deg_s"] = float(np.degrees(planned) / (stop - start))
+    return metrics
+
+
+def yaw_deviation_deg(log: WalkLog, reference: WalkLog, after: float) -> float:
+    """Largest difference [deg] of IMU yaw between a walk and a reference walk (the same
+    without its pushes) from time ``after`` [s] (the end of the last push) to the end of the
+    shorter of the two."""
+    end = min(float(log.time[-1]), float(reference.time[-1])) if len(log) and len(reference) \
+        else after
+    mask = (log.time >= after) & (log.time <= end)
+    if not np.any(mask):
+        return 0.0
+    yaw = np.unwrap(log.base_rpy[:, 2])[mask]
+    reference_yaw = np.interp(log.time[mask], reference.time, np.unwrap(reference.base_rpy[:, 2]))
+    return float(np.degrees(np.max(np.abs(yaw - reference_yaw))))
 
 
 def cop_margins(log: WalkLog, schedule: ContactSchedule) -> np.ndarray:

@@ -66,6 +66,7 @@ def test_static_generators_keep_the_com_inside(generator, command):
 
 
 def test_all_names_are_registered():
-    assert generator_names() == ["analytic", "static", "preview", "mpc", "static-qp"]
-    with pytest.raises(GeneratorNotFound, match="choose one of analytic, static, preview, mpc, static-qp"):
+    assert generator_names() == ["analytic", "static", "preview", "mpc", "static-qp", "mpc-steps"]
+    with pytest.raises(GeneratorNotFound,
+                       match="choose one of analytic, static, preview, mpc, static-qp, mpc-steps"):
         make_generator("zmp-magic")

@@ -129,8 +129,8 @@ def test_unreachable_path_names_the_line():
 def test_stabilizer_names():
     assert make_stabilizer("none") is None
     assert isinstance(make_stabilizer("ankle-imu"), AnkleImuStabilizer)
-    with pytest.raises(ConfigurationError, match="Unknown stabilizer 'gyro'.*ankle-imu"):
-        make_stabilizer("gyro")
+    with pytest.raises(ConfigurationError, match="Unknown stabilizer 'gyros'.*ankle-imu, gyro"):
+        make_stabilizer("gyros")
     with pytest.raises(ConfigurationError, match="kp must be a non-negative number"):
         AnkleImuStabilizer(kp=-1.0)
 
@@ -199,8 +199,10 @@ def test_walk_cli_builds_paper_a_stabilizer():
     assert _stabilizer(args) is None
     args = parser.parse_args(["walk", "--out", "unused"])
     assert _stabilizer(args) is None
+    args = parser.parse_args(["walk", "--stabilizer", "gyro", "--out", "unused"])
+    assert _stabilizer(args).name == "gyro" and _swing_profile(args) == "cosine"
     with pytest.raises(SystemExit):
-        parser.parse_args(["walk", "--stabilizer", "gyro", "--out", "unused"])
+        parser.parse_args(["walk", "--stabilizer", "gyros", "--out", "unused"])
 
 
 class _StubController:

@@ -58,11 +58,21 @@ class ContactSchedule:
     Args:
         plan: Footsteps and timing.
         foot: Sole dimensions used for the support polygons.
+        reuse: A schedule with the same sole whose support polygons are reused for the
+            feet (and pairs of feet) at the same poses; building a schedule with a few
+            footsteps moved (:meth:`with_steps`) then costs a fraction of a full build.
     """
 
-    def __init__(self, plan: FootstepPlan, foot: FootGeometry = FootGeometry()) -> None:
+    def __init__(self, plan: FootstepPlan, foot: FootGeometry = FootGeometry(), *,
+                 reuse: Optional["ContactSchedule"] = None) -> None:
         self.plan = plan
         self.foot = foot
+        # Polygons by foot pose (and pair of poses for a hull), and their padded half-planes.
+        self._polygons: Dict[tuple, SupportPolygon] = {}
+        self._padded: Dict[tuple, tuple] = {}
+        reused = reuse is not None and reuse.foot == foot
+        self._reused_polygons = reuse._polygons if reused else {}
+        self._reused_padded = reuse._padded if reused else {}
         timing = plan.timing
         self.step_duration = timing.step_duration
         self.t_b = timing.single_support_begin
@@ -74,9 +84,11 @@ class ContactSchedule:
         self._rects = [
             {side: self._rect(f) for side, f in st.items()} for st in self._stances
         ]
+        self._phase_keys: List[tuple] = []
         self.phases: List[Phase] = self._build_phases()
         self._phase_starts = np.array([ph.start for ph in self.phases])
-        A, b = zip(*(ph.polygon.padded_halfplanes(MAX_POLYGON_EDGES) for ph in self.phases))
+        A, b = zip(*(self._padded_halfplanes(key, ph.polygon)
+                     for key, ph in zip(self._phase_keys, self.phases)))
         self._phase_A = np.array(A)
         self._phase_b = np.array(b)
         self._phase_single = np.array([ph.single_support for ph in self.phases])
@@ -100,9 +112,44 @@ class ContactSchedule:
         #: Times where the ZMP reference may bend, and its values there, (k,) and (k, 2).
         self.zmp_breakpoints = np.unique(np.concatenate([bounds, bounds[1:] - _KNOT_GAP]))
         self.zmp_breakpoint_values = self._zmp_reference_exact(self.zmp_breakpoints)
+        del self._reused_polygons, self._reused_padded
+
+    def with_steps(self, steps) -> "ContactSchedule":
+        """The same schedule with other landing poses (same initial feet, timing and sole).
+
+        Polygons of the feet that did not move are reused, so moving a few footsteps of a
+        20-step plan costs a fraction of building the schedule anew.
+
+        Args:
+            steps: Landing poses, one per step, alternating sides.
+        """
+        plan = FootstepPlan(self.plan.initial_left, self.plan.initial_right, tuple(steps),
+                            self.plan.timing)
+        return ContactSchedule(plan, self.foot, reuse=self)
+
+    @staticmethod
+    def _pose_key(foot: Footstep) -> tuple:
+        return (float(foot.position[0]), float(foot.position[1]), float(foot.yaw))
+
+    def _polygon(self, key: tuple, build) -> SupportPolygon:
+        poly = self._polygons.get(key)
+        if poly is None:
+            poly = self._reused_polygons.get(key)
+            self._polygons[key] = poly = build() if poly is None else poly
+        return poly
+
+    def _padded_halfplanes(self, key: tuple, polygon: SupportPolygon):
+        padded = self._padded.get(key)
+        if padded is None:
+            padded = self._reused_padded.get(key)
+            if padded is None:
+                padded = polygon.padded_halfplanes(MAX_POLYGON_EDGES)
+            self._padded[key] = padded
+        return padded
 
     def _rect(self, foot: Footstep) -> SupportPolygon:
-        return foot_rectangle(foot.xy, foot.yaw, self.foot.length, self.foot.width)
+        return self._polygon(self._pose_key(foot), lambda: foot_rectangle(
+            foot.xy, foot.yaw, self.foot.length, self.foot.width))
 
     def _build_phases(self) -> List[Phase]:
         plan, T = self.plan, self.step_duration
@@ -110,7 +157,9 @@ class ContactSchedule:
 
         def double(start, end, k, stance_index):
             st, rects = self._stances[stance_index], self._rects[stance_index]
-            poly = SupportPolygon.union_hull(rects.values())
+            key = tuple(self._pose_key(f) for f in st.values())
+            poly = self._polygon(key, lambda: SupportPolygon.union_hull(rects.values()))
+            self._phase_keys.append(key)
             phases.append(Phase(start, end, k, False, None, dict(st), poly))
 
         if self.walk_start > 0.0:
@@ -121,6 +170,7 @@ class ContactSchedule:
             if self.t_b > 0.0:
                 double(t0, t0 + self.t_b, k, k)
             foot = self._stances[k][support]
+            self._phase_keys.append(self._pose_key(foot))
             phases.append(
                 Phase(t0 + self.t_b, t0 + self.t_e, k, True, support, {support: foot},
                       self._rects[k][support])

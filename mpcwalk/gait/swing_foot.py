@@ -155,6 +155,22 @@ class SwingFootTrajectory:
         self.phi_b = schedule.t_b / schedule.step_duration
         self.phi_e = schedule.t_e / schedule.step_duration
         self.torso_yaws = self._torso_waypoint_yaws()
+        # step index -> (h, horizontal position (2,), yaw) the swing restarts from
+        self._restarts: Dict[int, Tuple[float, np.ndarray, float]] = {}
+
+    def restart_swing(self, t: float, foot: FootState) -> None:
+        """Continue the swing in progress at ``t`` from ``foot`` (its pose then) towards
+        this schedule's landing: the landing moved during the swing (footstep-adaptive
+        generator), and the horizontal position and yaw must not jump. From ``t`` on, they
+        cover what is left of the way with the rest of the interpolant h, rescaled
+        ``(h - h(t)) / (1 - h(t))``; the height profile is unchanged. No effect outside a
+        single support."""
+        t = self._check_time(t)
+        k, h, _ = self._interpolants(t)
+        if not (0 <= k < self.schedule.plan.nb_steps) or not self.schedule.phase(t).single_support \
+                or h >= 1.0 - 1e-9:
+            return
+        self._restarts[k] = (h, np.array(foot.position[:2], dtype=float), float(foot.yaw))
 
     def _torso_waypoint_yaws(self) -> np.ndarray:
         """Torso yaw ``psi[k]`` at the start of each step (and after the last),
@@ -222,6 +238,9 @@ class SwingFootTrajectory:
                 states[swing] = _static_state(lift if phi < 0.5 else landing)
             else:
                 states[swing] = self._swing_state(t, lift, landing, h, dh)
+                if k in self._restarts:
+                    states[swing] = self._restarted(states[swing], landing, h, dh,
+                                                    *self._restarts[k])
         return FeetState(t, k, states[Side.LEFT], states[Side.RIGHT])
 
     def _swing_state(
@@ -236,6 +255,21 @@ class SwingFootTrajectory:
             phi, self.phi_b, self.phi_e, step_duration=self.step_duration
         )
         return self._blend(lift, landing, h, dh, v, dv)
+
+    @staticmethod
+    def _restarted(state: FootState, landing: Footstep, h: float, dh: float, h0: float,
+                   origin: np.ndarray, yaw0: float) -> FootState:
+        """``state`` with its horizontal motion restarted at ``h0`` from ``origin``/``yaw0``."""
+        scale = 1.0 / (1.0 - h0)
+        r, dr = max(h - h0, 0.0) * scale, dh * scale
+        delta = landing.position[:2] - origin
+        delta_yaw = float(wrap_angle(landing.yaw - yaw0))
+        position = np.array(state.position)
+        velocity = np.array(state.linear_velocity)
+        position[:2] = origin + r * delta
+        velocity[:2] = dr * delta
+        return FootState(_frozen(position), yaw0 + r * delta_yaw, _frozen(velocity),
+                         dr * delta_yaw, False)
 
     def _ctraj_interpolants(self, phi: float) -> Tuple[float, float, float, float]:
         """Paper A's lift-then-lower profile: fraction of the step ``h`` and of the

@@ -14,6 +14,7 @@ _REGISTRY: Dict[str, Tuple[str, str]] = {
     "preview": (".preview", "PreviewGenerator"),
     "mpc": (".mpc", "MpcGenerator"),
     "static-qp": (".static_qp", "StaticQPGenerator"),
+    "mpc-steps": (".mpc_steps", "FootstepMpcGenerator"),
 }
 
 

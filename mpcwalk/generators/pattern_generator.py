@@ -111,6 +111,9 @@ class GeneratorOutput:
         com_height: Constant CoM height, in [m].
         horizon: Predicted trajectory, or None.
         solve: Optimisation report, or None for closed forms.
+        schedule: The contact schedule the generator follows from now on, when it changed
+            it this tick (footstep-adaptive generators move the future footsteps); None when
+            it did not. The controller then moves its swing foot and support polygons to it.
     """
 
     time: float
@@ -121,6 +124,7 @@ class GeneratorOutput:
     com_height: float
     horizon: Optional[Horizon] = None
     solve: Optional[SolveInfo] = None
+    schedule: Optional[ContactSchedule] = None
 
     @property
     def state(self) -> ComState:
@@ -138,6 +142,9 @@ class PatternGenerator(ABC):
 
     #: Name used on the command line and in :func:`make_generator`.
     name: ClassVar[str] = ""
+    #: Share of the measured CoM error a :class:`~mpcwalk.controller.WalkingController` feeds
+    #: back into this generator by default (its ``observer_gain``; closed forms ignore it).
+    observer_gain: ClassVar[float] = 0.05
 
     def __init__(self, *, lipm: LIPM = LIPM(), control_period: float = 0.01) -> None:
         if not np.isfinite(control_period) or control_period <= 0.0:

@@ -8,7 +8,8 @@ A stabilizer has two hooks, both optional (identity by default):
 - :meth:`Stabilizer.adjust_joint_targets`: add offsets to the servo targets (paper A's ankle
   strategy and IMU correction, paper M's gyro feedback).
 
-:func:`make_stabilizer` builds one by name (``"ankle-imu"``, ``"none"``).
+:func:`make_stabilizer` builds one by name (``"ankle-imu"``, ``"gyro"`` (paper M's gyro
+feedback, :mod:`mpcwalk.stabilizers.gyro`), ``"none"``).
 """
 
 from typing import Optional, Sequence, Tuple
@@ -65,7 +66,7 @@ class StabilizerChain(Stabilizer):
         return joint_targets
 
 
-STABILIZER_NAMES = ("none", "ankle-imu")
+STABILIZER_NAMES = ("none", "ankle-imu", "gyro")
 
 
 def make_stabilizer(name: Optional[str], **options) -> Optional[Stabilizer]:
@@ -80,6 +81,10 @@ def make_stabilizer(name: Optional[str], **options) -> Optional[Stabilizer]:
         from .ankle_imu import AnkleImuStabilizer
 
         return AnkleImuStabilizer(**options)
+    if name == "gyro":
+        from .gyro import GyroStabilizer
+
+        return GyroStabilizer(**options)
     raise ConfigurationError(
         f"Unknown stabilizer '{name}'; the stabilizers are {', '.join(STABILIZER_NAMES)}."
     )

@@ -1,0 +1,392 @@
+"""Walking MPC with the footstep positions as decision variables (Herdt et al. 2010).
+
+Per horizontal axis the decision variables are the CoM jerks over ``N`` samples (the
+cart-table model of :mod:`mpcwalk.qp.walking_qp`) and the positions of the next ``nf``
+footsteps; the footstep yaws are known in advance, so every constraint is linear::
+
+    x = [U_x (N), U_y (N), F_x (nf), F_y (nf)]
+
+    minimise   velocity_weight ||V - V_ref||^2 + zmp_weight ||Z - (c0 + S F)||^2
+               + jerk_weight ||U||^2 + footstep_weight ||M F - r||^2
+    subject to n_r . Z_i - n_r . S_i F <= b_r          (ZMP of sample i in its support)
+               lower <= R(yaw_p)^T (F_j - F_p) <= upper  (footstep j reachable from p)
+
+``c0 + S F`` is the ZMP centre of each sample (its support foot, or a point moving from
+one foot to the next in double support), affine in the footsteps. ``M F - r`` pulls the
+footsteps towards a nominal plan (absolute positions, or displacements from the previous
+footstep). The caller (:class:`~mpcwalk.generators.mpc_steps.FootstepMpcGenerator`) says
+which footstep each sample stands on; :class:`FootstepQP` only assembles the matrices. The
+problem is dense (jerks condensed) and rebuilt with numpy every tick from precomputed
+prediction products: the footstep columns change with the samples anyway.
+"""
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+import qpsolvers
+
+from ..exceptions import ConfigurationError, NotReset
+from ..models.cart_table import CartTable
+from ..models.lipm import LIPM
+
+
+@dataclass(frozen=True)
+class FootstepMpcParameters:
+    """Horizon and weights of the footstep-adaptive MPC (all weights per sample and axis).
+
+    Attributes:
+        sampling_period: Time between two samples, in [s].
+        horizon: Number of samples N.
+        velocity_weight: CoM velocity error to the reference walking velocity, in [s^2/m^2].
+        zmp_weight: ZMP distance to the centre of its (variable) support, in [1/m^2].
+        jerk_weight: CoM jerk, in [s^6/m^2]; positive.
+        footstep_weight: Footstep distance to its nominal position (or displacement), in
+            [1/m^2] per footstep; positive (it also keeps the QP strictly convex).
+        zmp_margin: Distance kept between the ZMP and the support edges, in [m].
+        constraint_points: Points of each sampling interval where the ZMP is constrained,
+            evenly spaced, the last at the sample: 1 constrains the samples only; 2 (the
+            default) also the middle of each interval. The ZMP is cubic between samples
+            and, at the samples only, was measured 9 mm outside the foot after a push (the
+            ZMP crossing to a footstep moved 6 cm away within the 0.1 s double support).
+    """
+
+    sampling_period: float = 0.05  # [s]
+    horizon: int = 32  # [] 1.6 s
+    velocity_weight: float = 1.0  # [s^2/m^2]
+    zmp_weight: float = 100.0  # [1/m^2]
+    jerk_weight: float = 1e-6  # [s^6/m^2]
+    footstep_weight: float = 100.0  # [1/m^2]
+    zmp_margin: float = 0.0  # [m]
+    constraint_points: int = 2  # [] per sampling interval
+
+    def __post_init__(self) -> None:
+        if not np.isfinite(self.sampling_period) or self.sampling_period <= 0.0:
+            raise ConfigurationError(
+                f"FootstepMpcParameters.sampling_period must be a positive number of seconds, "
+                f"got {self.sampling_period!r}; 0.05 s is the default."
+            )
+        if isinstance(self.horizon, bool) or int(self.horizon) != self.horizon or self.horizon < 2:
+            raise ConfigurationError(
+                f"FootstepMpcParameters.horizon is a number of samples and must be an integer "
+                f">= 2, got {self.horizon!r}."
+            )
+        object.__setattr__(self, "horizon", int(self.horizon))
+        for name in ("velocity_weight", "zmp_weight", "jerk_weight", "footstep_weight"):
+            value = getattr(self, name)
+            strict = name in ("jerk_weight", "footstep_weight")
+            if not np.isfinite(value) or value < 0.0 or (strict and value == 0.0):
+                raise ConfigurationError(
+                    f"FootstepMpcParameters.{name} must be a "
+                    f"{'positive' if strict else 'non-negative'} number, got {value!r}."
+                )
+        if isinstance(self.constraint_points, bool) or int(self.constraint_points) != \
+                self.constraint_points or self.constraint_points < 1:
+            raise ConfigurationError(
+                "FootstepMpcParameters.constraint_points must be an integer >= 1 (points per "
+                f"sampling interval), got {self.constraint_points!r}."
+            )
+        object.__setattr__(self, "constraint_points", int(self.constraint_points))
+        if not np.isfinite(self.zmp_margin) or self.zmp_margin < 0.0:
+            raise ConfigurationError(
+                f"FootstepMpcParameters.zmp_margin must be a non-negative distance in metres, "
+                f"got {self.zmp_margin!r}."
+            )
+
+    @property
+    def duration(self) -> float:
+        """Horizon duration, in [s]."""
+        return self.horizon * self.sampling_period
+
+    def replace(self, **changes) -> "FootstepMpcParameters":
+        """Copy with some fields changed; unknown names raise ConfigurationError."""
+        names = [f.name for f in dataclasses.fields(self)]
+        unknown = sorted(set(changes) - set(names))
+        if unknown:
+            raise ConfigurationError(
+                f"Unknown footstep MPC parameter(s) {', '.join(unknown)}; the parameters are "
+                f"{', '.join(names)}."
+            )
+        return dataclasses.replace(self, **changes)
+
+
+def blended_rectangles(yaw_a: np.ndarray, yaw_b: np.ndarray, lam: np.ndarray, foot):
+    """Sole-sized rectangles between two feet A and B, for double support.
+
+    The rectangle centred at ``(1 - lam) A + lam B`` with the yaw of
+    ``w = (1 - lam) e^{i yaw_A} + lam e^{i yaw_B}`` and half sizes scaled by ``|w| <= 1``
+    lies inside the convex hull of the two soles whatever their positions: each of its
+    points is the same convex combination of a point of each sole. Linear in A and B.
+
+    Args:
+        yaw_a, yaw_b: Yaws of the feet, shape (k,), in [rad].
+        lam: Share of B, shape (k,), in [0, 1].
+        foot: Sole (``length``, ``width`` in [m]).
+
+    Returns:
+        ``(normals, half)``: outward unit normals (k, 4, 2) (front, back, left, right) and
+        the distances of the edges from the centre (k, 4), in [m].
+    """
+    lam = np.asarray(lam, dtype=float)
+    w = (1.0 - lam) * np.exp(1j * np.asarray(yaw_a)) + lam * np.exp(1j * np.asarray(yaw_b))
+    scale, yaw = np.abs(w), np.angle(w)
+    c, s = np.cos(yaw), np.sin(yaw)
+    normals = np.stack([np.stack([c, s], -1), np.stack([-c, -s], -1),
+                        np.stack([-s, c], -1), np.stack([s, -c], -1)], axis=-2)
+    half = scale[..., None] * (0.5 * np.array([foot.length, foot.length, foot.width, foot.width]))
+    return normals, half
+
+
+@dataclass(frozen=True)
+class SampleSupports:
+    """ZMP constraints and ZMP centres at the constraint points, affine in the footsteps.
+
+    The constraint points are :meth:`FootstepQP.constraint_times` (``n = N P`` with ``P``
+    points per interval; every ``P``-th is a sample). Point ``i`` requires
+    ``normals[i, r] . (Z_i - S_i F) <= offsets[i, r]`` for the rows ``r`` where
+    ``rows[i, r]``; its ZMP centre is ``centres[i] + S_i F`` (used at the samples only).
+
+    Attributes:
+        normals: Outward unit normals, shape (n, E, 2).
+        offsets: Shape (n, E), in [m].
+        rows: Which rows are real (not padding), shape (n, E), bool.
+        weights: ``S``: share of each footstep variable in the point's support, (n, nf).
+        centres: Fixed part ``c0`` of the ZMP centre, shape (n, 2), in [m].
+    """
+
+    normals: np.ndarray
+    offsets: np.ndarray
+    rows: np.ndarray
+    weights: np.ndarray
+    centres: np.ndarray
+
+
+@dataclass(frozen=True)
+class StepVariables:
+    """Footstep variables of one tick: which are used, their reference, their reach.
+
+    Attributes:
+        active: Shape (nf,), bool; inactive variables are pinned at 0 by the cost only.
+        reference_matrix: ``M``, shape (nf, nf).
+        reference: ``r``, shape (nf, 2), in [m]: the cost pulls ``M F`` towards it.
+        predecessor: Variable index of the footstep each one is reached from (the support
+            foot of its step), or -1 when that foot is fixed; shape (nf,), int.
+        predecessor_xy: Position of a fixed predecessor, shape (nf, 2), in [m].
+        predecessor_yaw: Yaw of the predecessor, shape (nf,), in [rad].
+        lower: Lowest landing in the predecessor's frame (x, y), shape (nf, 2), in [m].
+        upper: Highest landing, shape (nf, 2), in [m].
+        initial: Current positions (warm start of the footstep entries), (nf, 2), in [m].
+    """
+
+    active: np.ndarray
+    reference_matrix: np.ndarray
+    reference: np.ndarray
+    predecessor: np.ndarray
+    predecessor_xy: np.ndarray
+    predecessor_yaw: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    initial: np.ndarray
+
+
+class FootstepQP:
+    """Dense QP of the footstep-adaptive MPC, rebuilt cheaply every tick.
+
+    The qpsolvers back-ends of :mod:`mpcwalk.qp.solvers` solve it through :meth:`problem`
+    (``formulation`` is ``"dense"``, there are no equality rows).
+
+    Args:
+        lipm: Pendulum model.
+        parameters: Horizon and weights.
+        nb_footsteps: Number ``nf`` of footstep variables (the most a horizon can hold).
+    """
+
+    formulation = "dense"
+    m_eq = 0
+
+    def __init__(self, lipm: LIPM, parameters: FootstepMpcParameters, nb_footsteps: int) -> None:
+        if int(nb_footsteps) != nb_footsteps or nb_footsteps < 1:
+            raise ConfigurationError(
+                f"nb_footsteps must be a positive integer, got {nb_footsteps!r}.")
+        p = self.parameters = parameters
+        self.N, self.nf = N, nf = parameters.horizon, int(nb_footsteps)
+        self.n = 2 * (N + nf)
+        self.m = 0
+        self.lipm = lipm
+        self.model = CartTable(lipm, p.sampling_period)
+        self._predictions: dict = {}
+        self._pred = self._prediction(p.sampling_period)
+        # Columns of each axis: its jerks, then its footsteps.
+        self._columns = [np.concatenate([a * N + np.arange(N), 2 * N + a * nf + np.arange(nf)])
+                         for a in range(2)]
+        self.P = self.q = self.G = self.h = None
+        self.x0: Optional[np.ndarray] = None
+        self.sample_times = self.sample_times_at(0.0)
+        self._initial_footsteps = np.zeros((nf, 2))
+
+    def sample_times_at(self, t: float) -> np.ndarray:
+        """Sample times of a tick at ``t`` [s], shape (N,): the grid of multiples of the
+        sampling period after ``t``. The grid does not slide with the ticks, so that the
+        samples meet the contact phases the same way from one tick to the next (a sliding
+        grid made the footsteps jitter by a few mm at the sampling frequency); the first
+        interval lasts between one control period and one sampling period."""
+        Ts = self.parameters.sampling_period
+        first = (np.floor(t / Ts + 1e-6) + 1.0) * Ts
+        return first + Ts * np.arange(self.N)
+
+    def constraint_times(self, t: float) -> np.ndarray:
+        """Times where the ZMP is constrained for a tick at ``t`` [s], shape (N P,):
+        ``P = constraint_points`` per sampling interval, the last at the sample."""
+        samples = self.sample_times_at(t)
+        starts = np.concatenate([[t], samples[:-1]])
+        P = self.parameters.constraint_points
+        share = np.arange(1, P + 1) / P
+        return (starts[:, None] + share[None, :] * (samples - starts)[:, None]).ravel()
+
+    def _prediction(self, first: float) -> dict:
+        """Prediction matrices (``P?s`` (N, 3), ``P?u`` (N, N), as
+        :meth:`CartTable.prediction_matrices`) when the first interval lasts ``first``
+        [s] and the others one sampling period, with the jerk block of the cost."""
+        key = round(first * 1e9)
+        pred = self._predictions.get(key)
+        if pred is not None:
+            return pred
+        N, p = self.N, self.parameters
+        A1, B1 = CartTable.transition(first)
+        A, B = self.model.A, self.model.B
+        Xs, Xu = np.zeros((N, 3, 3)), np.zeros((N, 3, N))
+        Xs[0], Xu[0, :, 0] = A1, B1
+        for i in range(1, N):
+            Xs[i] = A @ Xs[i - 1]
+            Xu[i] = A @ Xu[i - 1]
+            Xu[i, :, i] = B
+        C = self.model.C
+        pred = {"Pps": Xs[:, 0], "Ppu": Xu[:, 0], "Pvs": Xs[:, 1], "Pvu": Xu[:, 1],
+                "Pzs": np.einsum("k,nkj->nj", C, Xs), "Pzu": np.einsum("k,nkj->nj", C, Xu)}
+        # ZMP at the constraint points: from the state at the start of each interval.
+        P = p.constraint_points
+        Cs, Cu = np.zeros((N, P, 3)), np.zeros((N, P, N))
+        for i in range(N):
+            length = first if i == 0 else p.sampling_period
+            start_s = np.eye(3) if i == 0 else Xs[i - 1]
+            start_u = np.zeros((3, N)) if i == 0 else Xu[i - 1]
+            for j in range(P):
+                Aj, Bj = CartTable.transition(length * (j + 1) / P)
+                Cs[i, j] = C @ Aj @ start_s
+                Cu[i, j] = C @ Aj @ start_u
+                Cu[i, j, i] += C @ Bj
+        pred["Czs"], pred["Czu"] = Cs.reshape(N * P, 3), Cu.reshape(N * P, N)
+        H = (p.zmp_weight * pred["Pzu"].T @ pred["Pzu"] + p.velocity_weight * pred["Pvu"].T
+             @ pred["Pvu"] + p.jerk_weight * np.eye(N))
+        pred["H_jerk"] = 0.5 * (H + H.T)
+        self._predictions[key] = pred
+        return pred
+
+    def update(self, x0: np.ndarray, t: float, velocity_reference: np.ndarray,
+               supports: SampleSupports, steps: StepVariables) -> None:
+        """Assemble the QP of the tick at time ``t`` [s] from the CoM state ``x0`` (3, 2)
+        (rows position [m], velocity [m/s], acceleration [m/s^2]), the reference velocity
+        (N, 2) [m/s], the supports of the samples and the footstep variables."""
+        x0 = np.asarray(x0, dtype=float)
+        if x0.shape != (3, 2) or not np.all(np.isfinite(x0)):
+            raise ConfigurationError(
+                "FootstepQP.update expects x0 of shape (3, 2) (rows position, velocity, "
+                f"acceleration; columns x, y) with finite values, got shape {x0.shape}."
+            )
+        p, N, nf = self.parameters, self.N, self.nf
+        times = self.sample_times_at(t)
+        self._pred = pred = self._prediction(times[0] - t)
+        last = p.constraint_points - 1
+        S, M = supports.weights[last::p.constraint_points], steps.reference_matrix
+        centres = supports.centres[last::p.constraint_points]
+        wz, wf = p.zmp_weight, p.footstep_weight
+        H = np.empty((N + nf, N + nf))
+        H[:N, :N] = pred["H_jerk"]
+        H[:N, N:] = -wz * pred["Pzu"].T @ S
+        H[N:, :N] = H[:N, N:].T
+        H[N:, N:] = wz * S.T @ S + wf * M.T @ M
+        scale = 2.0 / np.max(np.diag(H))  # largest diagonal entry of P is 1
+        P, q = np.zeros((self.n, self.n)), np.empty(self.n)
+        zmp_free, vel_free = pred["Pzs"] @ x0, pred["Pvs"] @ x0  # (N, 2)
+        for a, cols in enumerate(self._columns):
+            P[np.ix_(cols, cols)] = scale * H
+            z_res = zmp_free[:, a] - centres[:, a]
+            v_res = vel_free[:, a] - velocity_reference[:, a]
+            q[cols[:N]] = scale * (wz * pred["Pzu"].T @ z_res
+                                   + p.velocity_weight * pred["Pvu"].T @ v_res)
+            q[cols[N:]] = scale * (-wz * S.T @ z_res - wf * M.T @ steps.reference[:, a])
+        self.P, self.q = P, q
+        self.G, self.h = self._constraints(x0, supports, steps)
+        self.m = len(self.h)
+        self.x0, self.time, self.sample_times = x0.copy(), float(t), times
+        self._initial_footsteps = np.asarray(steps.initial, dtype=float)
+
+    def _constraints(self, x0, supports: SampleSupports, steps: StepVariables):
+        N, nf = self.N, self.nf
+        point, row = np.nonzero(supports.rows)
+        normals = supports.normals[point, row]  # (m_z, 2)
+        G_zmp = np.empty((len(point), self.n))
+        Pzu, S = self._pred["Czu"][point], supports.weights[point]
+        zmp_free = self._pred["Czs"][point] @ x0
+        for a in range(2):
+            G_zmp[:, a * N:(a + 1) * N] = normals[:, a:a + 1] * Pzu
+            G_zmp[:, 2 * N + a * nf:2 * N + (a + 1) * nf] = -normals[:, a:a + 1] * S
+        h_zmp = (supports.offsets[point, row] - self.parameters.zmp_margin
+                 - np.einsum("ra,ra->r", normals, zmp_free))
+        active = np.flatnonzero(steps.active)
+        G_reach = np.zeros((4 * len(active), self.n))
+        h_reach = np.empty(4 * len(active))
+        for r, j in enumerate(active):
+            yaw = steps.predecessor_yaw[j]
+            axes = np.array([[np.cos(yaw), np.sin(yaw)], [-np.sin(yaw), np.cos(yaw)]])
+            pred = steps.predecessor[j]
+            for k in range(2):  # local x, then local y
+                for sign, bound in ((1.0, steps.upper[j, k]), (-1.0, -steps.lower[j, k])):
+                    i = 4 * r + 2 * k + (sign < 0)
+                    e = sign * axes[k]
+                    G_reach[i, 2 * N + j] += e[0]
+                    G_reach[i, 2 * N + nf + j] += e[1]
+                    if pred >= 0:
+                        G_reach[i, 2 * N + pred] -= e[0]
+                        G_reach[i, 2 * N + nf + pred] -= e[1]
+                        h_reach[i] = bound
+                    else:
+                        h_reach[i] = bound + e @ steps.predecessor_xy[j]
+        return np.vstack([G_zmp, G_reach]), np.concatenate([h_zmp, h_reach])
+
+    def problem(self, dense: bool = True) -> qpsolvers.Problem:
+        """The QP in qpsolvers form ``min 1/2 x'Px + q'x, G x <= h`` (dense arrays; the
+        ``dense`` flag of the solver interface is accepted, the matrices are dense anyway,
+        converted to CSC when ``dense`` is False)."""
+        if self.x0 is None:
+            raise NotReset("FootstepQP.update(...) must be called before solving.")
+        if dense:
+            return qpsolvers.Problem(self.P, self.q, self.G, self.h)
+        import scipy.sparse as sp
+
+        return qpsolvers.Problem(sp.csc_matrix(self.P), self.q, sp.csc_matrix(self.G), self.h)
+
+    # ------------------------------------------------------------- solutions
+    def jerks(self, x: np.ndarray) -> np.ndarray:
+        """CoM jerks of a solution, shape (N, 2), in [m]/[s]^3."""
+        return np.asarray(x)[: 2 * self.N].reshape(2, self.N).T
+
+    def footsteps(self, x: np.ndarray) -> np.ndarray:
+        """Footstep positions of a solution, shape (nf, 2), in [m]."""
+        return np.asarray(x)[2 * self.N:].reshape(2, self.nf).T
+
+    def predict(self, jerks: np.ndarray):
+        """CoM positions and ZMPs at the samples of the last :meth:`update`, each (N, 2),
+        for jerks (N, 2)."""
+        pred = self._pred
+        com = pred["Pps"] @ self.x0 + pred["Ppu"] @ jerks
+        return com, pred["Pzs"] @ self.x0 + pred["Pzu"] @ jerks
+
+    def shift_primal(self, x: np.ndarray, samples: float) -> np.ndarray:
+        """Warm start: jerks shifted by ``samples`` sampling periods (linear interpolation,
+        last one held), footsteps at their current positions."""
+        U = self.jerks(x)
+        pos = np.clip(np.arange(self.N) + samples, 0.0, self.N - 1)
+        U = np.stack([np.interp(pos, np.arange(self.N), U[:, a]) for a in range(2)], axis=1)
+        return np.concatenate([U.T.ravel(), self._initial_footsteps.T.ravel()])

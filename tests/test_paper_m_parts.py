@@ -1,0 +1,301 @@
+"""Paper M's gyro stabilizer (eq. 26-30), arm swing (eq. 24-25), the attitude metrics and the
+controller following a schedule whose footsteps a generator moved."""
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from mpcwalk.controller import WalkingController
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.footsteps.footstep import FootGeometry, FootstepPlan, Side
+from mpcwalk.gait.arm_swing import ArmSwing
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.generators import make_generator
+from mpcwalk.models.lipm import LIPM
+from mpcwalk.robots import load_robot
+from mpcwalk.stabilizers import make_stabilizer
+from mpcwalk.stabilizers.gyro import PAPER_M_GAINS, GyroStabilizer, heading_rates
+from mpcwalk.walk import plan_walk_footsteps
+from mpcwalk.walk_report import _attitude_metrics, yaw_deviation_deg
+
+_ROBOTS = {}
+
+
+def get_robot(name):
+    if name not in _ROBOTS:
+        _ROBOTS[name] = load_robot(name, visual=False)
+    return _ROBOTS[name]
+
+
+def schedule_for(robot, nb_steps=4, vx=0.1):
+    plan = plan_walk_footsteps(robot, command=(vx, 0.0, 0.0), nb_steps=nb_steps)
+    return ContactSchedule(plan, FootGeometry(*robot.sole_size))
+
+
+def controller_for(robot, **options):
+    return WalkingController.for_robot(robot, "analytic", schedule_for(robot), **options)
+
+
+def torso_in_sole(robot, q, side_index):
+    """Torso rotation relative to a sole frame."""
+    sole = robot.compute_sole_placements(q)[side_index]
+    torso = robot.compute_frame_placement(q, robot.preset.torso_frame)
+    return sole.rotation.T @ torso.rotation
+
+
+def rpy(rotation):
+    return pin.rpy.matrixToRpy(rotation)
+
+
+# ---------------------------------------------------------------- gyro stabilizer
+@pytest.mark.parametrize("robot_name", ["bioloid-like", "atlas-like", "g1"])
+@pytest.mark.parametrize("axis", [0, 1])
+def test_gyro_offsets_turn_the_torso_against_the_measured_rate(robot_name, axis):
+    """On the stance leg the offsets rotate the torso relative to the flat foot opposite to the
+    roll (axis 0) or pitch (axis 1) rate, on every robot whatever its joint axis signs."""
+    robot = get_robot(robot_name)
+    stabilizer = GyroStabilizer()
+    stabilizer.reset(controller_for(robot))
+    rates = np.zeros(2)
+    rates[axis] = 1.0  # [rad/s]
+    offsets = stabilizer.offsets(rates)
+    assert len(offsets) == 10  # 5 joints per leg
+    q = robot.q0.copy()
+    for index, value in offsets.items():
+        q[7 + index] += value
+    for side_index in (0, 1):
+        before = rpy(torso_in_sole(robot, robot.q0, side_index))
+        after = rpy(torso_in_sole(robot, q, side_index))
+        change = after - before
+        # roll: hip roll + foot roll gains; pitch: hip pitch + knee + foot pitch partly cancel
+        # (the knee bends the shank the other way than the hip and ankle pitch)
+        assert change[axis] < -0.005, (robot_name, change)
+        assert abs(change[1 - axis]) < 0.2 * abs(change[axis]) + 1e-6
+
+
+def test_gyro_offsets_are_paper_m_gains_times_rates_on_the_small_humanoid():
+    robot = get_robot("bioloid-like")
+    stabilizer = GyroStabilizer()
+    stabilizer.reset(controller_for(robot))
+    offsets = stabilizer.offsets([0.3, -0.2])
+    names = robot.joint_names
+    for side in ("left", "right"):
+        assert offsets[names.index(f"{side}_hip_roll")] == pytest.approx(0.01 * 0.3)
+        assert offsets[names.index(f"{side}_foot_roll")] == pytest.approx(0.05 * 0.3)
+        assert offsets[names.index(f"{side}_hip_pitch")] == pytest.approx(0.01 * -0.2)
+        assert offsets[names.index(f"{side}_knee")] == pytest.approx(0.01 * -0.2)
+        assert offsets[names.index(f"{side}_foot_pitch")] == pytest.approx(0.02 * -0.2)
+    assert PAPER_M_GAINS == {"hip_roll": 0.01, "hip_pitch": 0.01, "knee": 0.01,
+                             "foot_pitch": 0.02, "foot_roll": 0.05}
+
+
+def test_gyro_adds_offsets_to_the_servo_targets_from_the_imu():
+    robot = get_robot("bioloid-like")
+    stabilizer = make_stabilizer("gyro", max_offset=0.01)
+    stabilizer.reset(controller_for(robot))
+    imu = SimpleNamespace(gyro=np.array([2.0, 0.0, 0.0]), quaternion=np.array([1.0, 0, 0, 0]))
+    measurement = SimpleNamespace(measurements=SimpleNamespace(imu=imu))
+    targets = np.zeros(len(robot.joint_names))
+    out = stabilizer.adjust_joint_targets(None, 0.0, targets, None, measurement)
+    index = robot.joint_names.index("left_foot_roll")
+    assert out[index] == pytest.approx(0.01)  # 0.05 * 2 rad/s clipped at max_offset
+    assert out[robot.joint_names.index("left_knee")] == 0.0  # no pitch rate
+    assert np.all(targets == 0.0)  # input untouched
+    # no measurement (kinematic robot): identity
+    assert stabilizer.adjust_joint_targets(None, 0.0, targets, None, None) is targets
+
+
+def test_heading_rates_do_not_depend_on_yaw_or_an_upside_down_imu():
+    omega_body = np.array([0.3, -0.1, 0.05])  # torso rates in its own (upright) frame
+    for yaw in (0.0, 1.0, -2.5):
+        torso = pin.utils.rpyToMatrix(0.0, 0.0, yaw)
+        quaternion = pin.Quaternion(torso)
+        wxyz = [quaternion.w, quaternion.x, quaternion.y, quaternion.z]
+        assert np.allclose(heading_rates(omega_body, wxyz), omega_body[:2])
+        # an IMU mounted upside down about x (Talos): it reads the rates in its own frame
+        mount = pin.utils.rpyToMatrix(math.pi, 0.0, 0.0)
+        imu = pin.Quaternion(torso @ mount)
+        wxyz = [imu.w, imu.x, imu.y, imu.z]
+        assert np.allclose(heading_rates(mount.T @ omega_body, wxyz), omega_body[:2])
+
+
+@pytest.mark.parametrize("options, message", [
+    ({"knee": -0.01}, "knee must be a non-negative"),
+    ({"foot_roll": float("nan")}, "foot_roll must be a non-negative"),
+    ({"max_offset": "big"}, "max_offset must be a non-negative"),
+])
+def test_gyro_bad_gains_are_named_errors(options, message):
+    with pytest.raises(ConfigurationError, match=message):
+        GyroStabilizer(**options)
+
+
+def test_gyro_needs_leg_joints_it_can_name():
+    robot = get_robot("bioloid-like")
+    fake = SimpleNamespace(name="armless", joint_names=("a", "b"))
+    with pytest.raises(ConfigurationError, match="lacks left hip_roll"):
+        GyroStabilizer._leg_joints(fake)
+    assert len(GyroStabilizer._leg_joints(robot)) == 10
+
+
+# ---------------------------------------------------------------- arm swing
+def hand_position(robot, q, side):
+    model, data = robot.model, robot.model.createData()
+    joint = model.getJointId(f"{side}_shoulder_pitch")
+    pin.forwardKinematics(model, data, q)
+    pin.updateFramePlacements(model, data)
+    subtree = set(model.subtrees[joint])
+    frames = [i for i, f in enumerate(model.frames) if f.parentJoint in subtree]
+    shoulder = data.oMi[joint].translation
+    far = max(frames, key=lambda i: np.linalg.norm(data.oMf[i].translation - shoulder))
+    return data.oMf[far].translation.copy()
+
+
+def test_arm_swing_moves_each_hand_with_the_opposite_foot():
+    robot = get_robot("bioloid-like")
+    swing = ArmSwing(robot, 0.8)
+    com = np.zeros(2)
+    left, right = np.array([-0.03, 0.04]), np.array([0.04, -0.04])
+    x_left_arm, x_right_arm = swing.hand_displacements(com, left, right, 0.0)
+    assert x_left_arm == pytest.approx(0.8 * 0.04)  # eq. 24: s * x_r
+    assert x_right_arm == pytest.approx(0.8 * -0.03)  # eq. 25: s * x_l
+    q = robot.q0.copy()
+    q[7 + swing.joint_indices] = swing.joint_angles(com, left, right, 0.0)
+    for side, expected in (("left", x_left_arm), ("right", x_right_arm)):
+        moved = hand_position(robot, q, side)[0] - hand_position(robot, robot.q0, side)[0]
+        assert moved == pytest.approx(expected, abs=0.25 * abs(expected))
+    # heading: the same feet turned with the torso give the same angles
+    yaw = 0.7
+    c, s = math.cos(yaw), math.sin(yaw)
+    turn = np.array([[c, -s], [s, c]])
+    assert np.allclose(swing.joint_angles(com, turn @ left, turn @ right, yaw),
+                       swing.joint_angles(com, left, right, 0.0))
+    # standing: nominal posture
+    assert np.allclose(swing.joint_angles(com, [0, 0.04], [0, -0.04], 0.0), swing.nominal)
+
+
+@pytest.mark.parametrize("factor", [-0.5, float("inf"), "0.8", True])
+def test_arm_swing_bad_factor_is_a_named_error(factor):
+    with pytest.raises(ConfigurationError, match="arm swing factor"):
+        ArmSwing(get_robot("bioloid-like"), factor)
+
+
+def test_controller_swings_the_arms_during_a_kinematic_walk():
+    robot = get_robot("bioloid-like")
+    controller = controller_for(robot, arm_swing=0.8)
+    controller.reset()
+    indices = 7 + controller.arm_swing.joint_indices
+    angles = []
+    while not controller.done:
+        angles.append(controller.step().q_ref[indices].copy())
+    angles = np.array(angles)
+    # the arms swing in opposition, about 2 x 0.8 x half a step amplitude at the hand
+    assert np.ptp(angles[:, 0]) > 0.1
+    assert np.corrcoef(angles[:, 0], angles[:, 1])[0, 1] < -0.5
+
+
+# ---------------------------------------------------------------- schedule replacement
+def test_controller_follows_a_schedule_with_a_moved_footstep():
+    robot = get_robot("bioloid-like")
+    schedule = schedule_for(robot, nb_steps=4)
+    plan = schedule.plan
+    moved_steps = list(plan.steps)
+    moved_steps[1] = moved_steps[1].moved(position=moved_steps[1].position + [0.02, 0.01, 0.0])
+    moved = ContactSchedule(FootstepPlan(plan.initial_left, plan.initial_right, moved_steps,
+                                         plan.timing), schedule.foot)
+    generator = make_generator("analytic", lipm=LIPM(com_height=robot.com_height))
+    controller = WalkingController(robot, generator, schedule)
+    controller.reset()
+    t_switch = schedule.walk_start + 1.5 * schedule.step_duration  # mid-swing of step 1
+    while controller.time < t_switch - 1e-9:
+        controller.step()
+    before = controller.last_output.feet
+    controller.follow_schedule(moved)
+    assert controller.dcm_feedback.schedule is moved
+    # the swing in progress goes on from where the foot is: no jump at the switch
+    side = moved_steps[1].side
+    after = controller.step().feet
+    travelled = np.linalg.norm(after[side].position - before[side].position)
+    assert travelled < 0.01 * 1.5 + 0.005  # at most a tick of swing speed (< 1.5 m/s)
+    jump = np.linalg.norm(after[side].position[:2] - before[side].position[:2]
+                          - 0.01 * before[side].linear_velocity[:2])
+    assert jump < 0.003
+    landing = schedule.walk_start + 2.0 * schedule.step_duration
+    while controller.time < landing - 1e-9:
+        output = controller.step()
+    assert np.allclose(output.feet[side].position[:2], moved_steps[1].xy, atol=1e-9)
+    # a reset goes back to the schedule the controller was built with
+    controller.reset()
+    assert controller.schedule is schedule
+
+
+# ---------------------------------------------------------------- metrics
+class _Log(SimpleNamespace):
+    def __len__(self):
+        return len(self.time)
+
+
+def test_yaw_rate_roll_and_pitch_metrics_on_a_synthetic_turn():
+    robot = get_robot("bioloid-like")
+    plan = plan_walk_footsteps(robot, command=(0.1, 0.0, math.radians(20.0)), nb_steps=10)
+    schedule = ContactSchedule(plan, FootGeometry(*robot.sole_size))
+    t = np.arange(0.0, schedule.duration, 0.01)
+    rate = math.radians(19.0)
+    walking = np.clip(t - schedule.walk_start, 0.0, schedule.walk_end - schedule.walk_start)
+    yaw = rate * walking
+    yaw = np.arctan2(np.sin(yaw), np.cos(yaw))  # wrapped, as the IMU gives it
+    rpy_values = np.stack([0.02 * np.sin(5 * t), -0.01 + 0.03 * np.sin(3 * t), yaw], axis=1)
+    metrics = _attitude_metrics(_Log(time=t, base_rpy=rpy_values), schedule, float(t[-1]))
+    assert metrics["yaw_rate_deg_s"] == pytest.approx(19.0, rel=1e-3)
+    assert metrics["yaw_rate_planned_deg_s"] == pytest.approx(20.0, rel=0.03)
+    assert metrics["roll_max_deg"] == pytest.approx(math.degrees(0.02), rel=0.01)
+    assert metrics["pitch_max_deg"] == pytest.approx(math.degrees(0.03), rel=0.01)
+    # a run that ended in the first step has no yaw rate
+    early = _attitude_metrics(_Log(time=t[:120], base_rpy=rpy_values[:120]), schedule, 1.19)
+    assert early["yaw_rate_deg_s"] is None
+
+
+def test_yaw_deviation_counts_after_the_push_only():
+    t = np.arange(0.0, 5.0, 0.01)
+    reference = _Log(time=t, base_rpy=np.zeros((len(t), 3)))
+    yaw = np.where(t < 3.0, 0.5, 0.0) + np.where(t > 3.5, np.radians(4.0) * np.exp(3.5 - t), 0)
+    log = _Log(time=t, base_rpy=np.stack([0 * t, 0 * t, yaw], axis=1))
+    assert yaw_deviation_deg(log, reference, 3.05) == pytest.approx(4.0, rel=0.02)
+    assert yaw_deviation_deg(log, reference, 6.0) == 0.0
+
+
+# ---------------------------------------------------------------- in MuJoCo
+def test_gyro_stabilizer_keeps_the_open_loop_closed_form_walking():
+    """Paper M's gait without any CoM feedback: its sway grows until it falls after about 6 s
+    of walking; the gyro stabilizer damps it and the walk ends standing."""
+    from mpcwalk.walk import run_walk
+
+    robot = get_robot("bioloid-like")
+    runs = {name: run_walk(robot, "analytic", command=(0.1, 0.0, 0.0), duration=6.0,
+                           feedback=False, stabilizer=name, progress=False).metrics
+            for name in ("none", "gyro")}
+    assert runs["none"]["fell"]
+    assert not runs["gyro"]["fell"], runs["gyro"]["fall_reason"]
+    assert runs["gyro"]["roll_max_deg"] < 10.0
+
+
+def test_walk_command_with_paper_m_options_reports_attitude_and_yaw_deviation(tmp_path, capsys):
+    import json
+
+    from mpcwalk.cli import main as cli_main
+
+    code = cli_main(["walk", "--robot", "bioloid-like", "--generator", "analytic",
+                     "--duration", "3", "--stabilizer", "gyro", "--arm-swing", "0.8",
+                     "--push", "0,0.1,0,5,0", "--push", "2.0,0.05,10,5,0", "--no-progress",
+                     "--out", str(tmp_path)])
+    assert code == 0, capsys.readouterr().out
+    metrics = json.loads((tmp_path / "metrics.json").read_text())
+    assert metrics["stabilizer"] == "gyro" and metrics["arm_swing"] == 0.8
+    assert 0.0 < metrics["yaw_deviation_deg"] < 20.0
+    assert metrics["roll_max_deg"] > 0.0 and metrics["pitch_max_deg"] > 0.0
+    # the push turns the robot: the deviation from the unpushed walk is its yaw at the end
+    assert metrics["yaw_deviation_deg"] >= abs(metrics["yaw_change_deg"]) - 2.0
+    assert metrics["yaw_rate_planned_deg_s"] == pytest.approx(0.0, abs=1e-9)
+    assert metrics["mpc_failures"] == 0
