@@ -359,6 +359,7 @@ class WalkingController:
             weights = self.support_weights(previous.zmp_command, previous.feet)
             measured = self.dcm_feedback.anchor(measured, measurement, self.time, weights)
             generator_input, dcm_error = self.dcm_feedback.compare(measured, previous.generator)
+            self.generator.observe_dcm_error(dcm_error)
         start = time.perf_counter()
         output, failed = self._step_generator(generator_input)
         generator_tick = time.perf_counter() - start

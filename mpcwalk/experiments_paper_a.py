@@ -22,6 +22,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from . import markdown
 from .footsteps.footstep import Side, wrap_angle
 from .paper_a import PaperAStateMachine
 from .stabilizers import StabilizerChain
@@ -151,16 +152,6 @@ def table_row(spec: ControllerSpec, experiment: str, result: WalkResult) -> Dict
     }
 
 
-def _cell(value, digits: int = 2) -> str:
-    if value is None:
-        return "-"
-    if isinstance(value, bool):
-        return "yes" if value else "no"
-    if isinstance(value, float):
-        return f"{value:.{digits}f}"
-    return str(value)
-
-
 TABLE_COLUMNS = (("controller", "controller", 0), ("experiment", "path", 0),
                  ("fell", "fell", 0), ("step_duration_s", "T [s]", 1),
                  ("steps", "steps", 0), ("total_time_s", "time [s]", 1),
@@ -176,13 +167,7 @@ TABLE_COLUMNS = (("controller", "controller", 0), ("experiment", "path", 0),
 
 def format_table(rows: Sequence[Dict], *, with_paper: bool = True) -> str:
     """Markdown table of the rows, paper A's reported row first."""
-    rows = ([PAPER_A_ROW] if with_paper else []) + list(rows)
-    lines = ["| " + " | ".join(title for _, title, _ in TABLE_COLUMNS) + " |",
-             "|" + "---|" * len(TABLE_COLUMNS)]
-    for row in rows:
-        lines.append("| " + " | ".join(_cell(row.get(key), digits)
-                                       for key, _, digits in TABLE_COLUMNS) + " |")
-    return "\n".join(lines) + "\n"
+    return markdown.table(([PAPER_A_ROW] if with_paper else []) + list(rows), TABLE_COLUMNS)
 
 
 def plot_placement_errors(entries: Sequence[Tuple[str, WalkResult]], *, title: str = ""):

@@ -38,6 +38,7 @@ from typing import Any, Dict, List, Union
 
 import numpy as np
 
+from .exceptions import ConfigurationError
 from .footsteps.footstep import Side, wrap_angle
 from .gait.contact_schedule import ContactSchedule
 from .models.support_polygon import SupportPolygon, foot_rectangle
@@ -335,18 +336,30 @@ def _attitude_metrics(log: WalkLog, schedule: ContactSchedule, end: float) -> Di
     return metrics
 
 
-def yaw_deviation_deg(log: WalkLog, reference: WalkLog, after: float) -> float:
-    """Largest difference [deg] of IMU yaw between a walk and a reference walk (the same
-    without its pushes) from time ``after`` [s] (the end of the last push) to the end of the
-    shorter of the two."""
-    end = min(float(log.time[-1]), float(reference.time[-1])) if len(log) and len(reference) \
-        else after
-    mask = (log.time >= after) & (log.time <= end)
+def yaw_deviation_deg(log: WalkLog, reference: WalkLog, after: float, *,
+                      statistic: str = "max") -> float:
+    """IMU yaw of a walk against the same walk without its pushes [deg].
+
+    ``|yaw(t) - yaw_reference(t)|`` (difference wrapped to [-180, 180) deg, the reference
+    interpolated at the walk's ticks) over ``after <= t <= end``, ``after`` the end of the
+    last push and ``end`` the end of the shorter log; ``statistic`` "max" (paper M's
+    deviation caused by F2, the default) or "final" (at ``end``). 0 when no tick lies in the
+    window.
+
+    Raises:
+        ConfigurationError: Another statistic.
+    """
+    if statistic not in ("max", "final"):
+        raise ConfigurationError(f"statistic must be 'max' or 'final', got {statistic!r}.")
+    if not len(log) or not len(reference):
+        return 0.0
+    end = min(float(log.time[-1]), float(reference.time[-1]))
+    mask = (log.time >= after - 1e-9) & (log.time <= end + 1e-9)
     if not np.any(mask):
         return 0.0
-    yaw = np.unwrap(log.base_rpy[:, 2])[mask]
     reference_yaw = np.interp(log.time[mask], reference.time, np.unwrap(reference.base_rpy[:, 2]))
-    return float(np.degrees(np.max(np.abs(yaw - reference_yaw))))
+    deviation = np.abs(wrap_angle(np.unwrap(log.base_rpy[:, 2])[mask] - reference_yaw))
+    return float(np.degrees(deviation.max() if statistic == "max" else deviation[-1]))
 
 
 def cop_margins(log: WalkLog, schedule: ContactSchedule) -> np.ndarray:

@@ -18,7 +18,7 @@ from mpcwalk.metrics import support_margins
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.models.support_polygon import SupportPolygon, foot_rectangle
-from mpcwalk.qp.footstep_qp import blended_rectangles
+from mpcwalk.qp.footstep_parameters import blended_rectangles
 from plans import velocity_schedule
 
 LIPM_SMALL = LIPM(com_height=0.23)  # bioloid-like
@@ -308,6 +308,8 @@ def test_a_rectangle_excluding_the_plan_is_a_named_error():
     ({"horizon_length": 3}, "Unknown footstep MPC parameter"),
     ({"reachability": (0.1, 0.2)}, "ReachabilityRectangle or LegLimits"),
     ({"publish_tolerance": -1.0}, "publish_tolerance"),
+    ({"dcm_step_gain": -0.3}, "dcm_step_gain must be a non-negative"),
+    ({"dcm_deadband": float("nan")}, "dcm_deadband must be a non-negative"),
 ])
 def test_bad_configuration_is_a_named_error(options, match):
     with pytest.raises(ConfigurationError, match=match):
@@ -340,3 +342,52 @@ def test_a_failed_solve_falls_back_then_raises():
         recovered.step()
     assert not recovered.step(hopeless).solve.success
     assert recovered.step().solve.success  # its own state again: the plan goes on
+
+
+def test_a_reported_dcm_error_moves_the_next_landing_by_its_growth():
+    """Capture-point stepping (dcm_step_gain): the controller reports a DCM error while the
+    generator's own state is on the plan; the next landing's target moves by the gain times
+    the error grown until the landing, and the QP moves the step that way."""
+    schedule = straight()
+    moves = {}
+    for gain in (0.0, 1.0):
+        gen = generator(dcm_step_gain=gain)
+        gen.reset(schedule)
+        while gen.time < PUSH_TIME - 1e-9:
+            gen.step()
+        # [m], DCM 1 cm to the right of the reference, the side of the swinging right foot
+        # (to the left it could not go: the feet separation bounds it)
+        error = np.array([0.0, -0.02])  # beyond the 5 mm deadband
+        gen.observe_dcm_error(error)
+        k = 2  # the step swinging at PUSH_TIME
+        growth = np.exp(gen.lipm.omega * (gen._landing[k] - gen.time))
+        beyond = error * (1.0 - gen.dcm_deadband / 0.02)  # the deadband is left out
+        assert np.allclose(gen._capture_offset(gen.time, gen._landing[k]), gain * growth * beyond)
+        gen.observe_dcm_error(0.2 * error)  # within the deadband: no offset
+        assert np.allclose(gen._capture_offset(gen.time, gen._landing[k]), 0.0)
+        for _ in range(5):
+            gen.observe_dcm_error(error)
+            gen.step()
+        moves[gain] = deviations(gen.schedule, schedule)[k]
+    assert np.allclose(moves[0.0], 0.0, atol=1e-3)  # undisturbed: on the plan
+    assert moves[1.0][1] < -0.003  # to the right, as the DCM error
+    assert abs(moves[1.0][0]) < 0.002
+
+
+def test_mujoco_push_felling_the_closed_form_gait_is_recovered_by_the_adaptive_mpc():
+    """A 0.3 N s forward push at the start of single support of the third step: paper M's
+    open-loop closed form falls, the footstep-adaptive MPC with feedback walks on (largest
+    forward impulses survived, ``results/paper_m``: below 0.1 N s against 0.55 N s)."""
+    from mpcwalk.sim import ExternalForce
+    from mpcwalk.walk import run_walk
+
+    push = [ExternalForce(2.05, 0.1, [3.0, 0.0, 0.0])]  # 0.3 N s
+    runs = {
+        name: run_walk("bioloid-like", generator, command=(0.1, 0.0, 0.0), nb_steps=5,
+                       pushes=push, feedback=feedback, progress=False).metrics
+        for name, generator, feedback in (("open loop", "analytic", False),
+                                          ("adaptive", "mpc-steps", True))}
+    assert runs["open loop"]["fell"]
+    assert not runs["adaptive"]["fell"], runs["adaptive"]["fall_reason"]
+    assert runs["adaptive"]["mpc_failures"] == 0
+    assert runs["adaptive"]["steps_completed"] == runs["adaptive"]["steps_planned"]

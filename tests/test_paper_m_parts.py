@@ -10,7 +10,7 @@ import pytest
 
 from mpcwalk.controller import WalkingController
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.footsteps.footstep import FootGeometry, FootstepPlan, Side
+from mpcwalk.footsteps.footstep import FootGeometry, FootstepPlan
 from mpcwalk.gait.arm_swing import ArmSwing
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators import make_generator

@@ -186,6 +186,11 @@ class PatternGenerator(ABC):
         self.tick = 0
         return self._reset(schedule, initial_state)
 
+    def observe_dcm_error(self, error: np.ndarray) -> None:
+        """Told by a closed-loop controller, before :meth:`step`, the measured DCM minus the
+        reference DCM [m], shape (2,), of this tick (whatever share of the CoM error it passes
+        to :meth:`step`). Generators that adapt footsteps use it; others ignore it."""
+
     def step(self, measured: Optional[ComState] = None) -> GeneratorOutput:
         """Advance by one control period.
 
