@@ -52,7 +52,7 @@ def test_bad_input_is_a_named_error_not_a_traceback(tmp_path, capsys, args, mess
 def test_generators_lists_every_name(capsys):
     assert main(["generators"]) == 0
     out = capsys.readouterr().out
-    for name in ("analytic", "static", "preview", "mpc", "static-qp"):
+    for name in ("analytic", "static", "preview", "mpc", "static-qp", "mpc-steps"):
         assert name in out
 
 
@@ -60,7 +60,8 @@ def test_tick_benchmark_reduced_run():
     results = run_tick_benchmark(nb_steps=2, solvers=["daqp"], include_peer=True, progress=False)
     labels = [r.label for r in results]
     assert labels[0] == "analytic" and results[0].ratio_to_analytic == 1.0
-    assert {"mpc osqp-direct", "mpc casadi", "mpc daqp", "qpmpc daqp (peer)"} <= set(labels)
+    assert {"mpc osqp-direct", "mpc casadi", "mpc daqp", "mpc-steps daqp", "mpc-steps quadprog",
+            "qpmpc daqp (peer)"} <= set(labels)
     for r in results:
         assert not r.error, (r.label, r.error)
         assert r.nb_ticks > 100 and r.median_us > 0.0 and r.p99_us >= r.median_us

@@ -71,6 +71,9 @@ def _cases(solvers: Optional[Sequence[str]], include_peer: bool):
     for name in wanted:
         if name in available_solvers:
             cases.append((f"mpc {name}", "mpc", name, {"solver": name}))
+    for name in ("quadprog", "daqp"):  # footstep-adaptive MPC: dense QP through qpsolvers
+        if name in available_solvers:
+            cases.append((f"mpc-steps {name}", "mpc-steps", name, {"solver": name}))
     cases.append(("static-qp osqp-direct (slow timing)", "static-qp", "osqp-direct", {"solver": "osqp-direct"}))
     if "daqp" in available_solvers:
         cases.append(("static-qp daqp (slow timing)", "static-qp", "daqp", {"solver": "daqp"}))
