@@ -2,6 +2,7 @@
 export, the tolerance conventions and the statistics."""
 
 import csv
+import gzip
 import importlib.util
 import math
 import re
@@ -17,7 +18,7 @@ from mpcwalk.bench.problem_set import get_family, reference_walk, sample_problem
 from mpcwalk.bench.qpbenchmark_export import build_problem, export_test_set, load_problem
 from mpcwalk.bench.solver_bench import make_cases, run_solver_benchmark
 from mpcwalk.bench.solver_config import SolverBenchConfig
-from mpcwalk.bench.solver_results import (fit_exponent, read_results, select,
+from mpcwalk.bench.solver_results import (RESULTS_FILE, fit_exponent, read_results, select,
                                           shifted_geometric_mean, shgeom_runtimes)
 from mpcwalk.bench.timed_pool import TimedPool
 from mpcwalk.bench.tolerances import select_levels, tolerance_levels
@@ -43,12 +44,12 @@ def reduced_run(tmp_path_factory):
         loop_nb_steps=4, loop_backends_max_time=1e-3,
     )
     summary = run_solver_benchmark(config, out, progress=False, command="pytest")
-    return out, config, summary, read_results(out / "results.csv")
+    return out, config, summary, read_results(out / RESULTS_FILE)
 
 
 def test_results_csv_has_one_row_per_case(reduced_run):
     out, config, summary, rows = reduced_run
-    with open(out / "results.csv") as stream:
+    with gzip.open(out / RESULTS_FILE, "rt") as stream:
         assert tuple(next(csv.reader(stream))) == CSV_COLUMNS
     keys = [(r["problem"], r["formulation"], r["solver"], r["tolerance"], r["start"]) for r in rows]
     assert len(keys) == len(set(keys)) == summary["rows"]

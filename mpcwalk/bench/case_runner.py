@@ -1,5 +1,5 @@
 """One benchmark case: a problem, a formulation, a back-end, a tolerance level
-and a start (cold or warm), solved and checked; one row of ``results.csv``.
+and a start (cold or warm), solved and checked; one row of ``results.csv.gz``.
 
 *Cold*: a new back-end object solves the problem (OSQP's setup and
 factorisation included; for CasADi the symbolic construction of the conic
@@ -28,7 +28,7 @@ from .problem_set import WalkingProblem, get_family
 from .tolerances import ToleranceLevel
 
 STARTS = ("cold", "warm")
-#: Columns of ``results.csv``, in order.
+#: Columns of ``results.csv.gz``, in order.
 CSV_COLUMNS = (
     "problem", "set", "family", "walk", "horizon", "sampling_period", "tick", "time", "pushed",
     "formulation", "n", "m", "solver", "tolerance", "start", "runtime", "found",

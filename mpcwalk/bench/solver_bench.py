@@ -9,7 +9,7 @@ are timed:
    the export of the qpbenchmark test set;
 2. timed, in ``timing_workers`` processes (default 1): every case
    (problem x formulation x back-end x tolerance level x start) through
-   :class:`~mpcwalk.bench.timed_pool.TimedPool`; rows go to ``results.csv``;
+   :class:`~mpcwalk.bench.timed_pool.TimedPool`; rows go to ``results.csv.gz``;
 3. timed, one process: per-tick time of every generator with the qpmpc peer
    (:mod:`mpcwalk.bench.ticks`), then the in-loop walks;
 4. qpbenchmark itself on the exported set (reduced: a subset of solvers);
@@ -34,7 +34,7 @@ from .backends import (KNOWN_SLOW_BACKENDS, OPTI_BACKEND, benchmark_backends, is
 from .case_runner import SolverCase
 from .problem_set import WalkingProblem, get_family, reference_walk, sample_problems
 from .solver_config import SolverBenchConfig
-from .solver_results import select, write_results
+from .solver_results import RESULTS_FILE, select, write_results
 from .timed_pool import TimedPool, single_thread_environment
 from .tolerances import select_levels
 
@@ -153,7 +153,7 @@ def machine_summary() -> str:
 def run_solver_benchmark(config: SolverBenchConfig, out_dir: Path, *, progress: bool = True,
                          command: str = "", loops: bool = True,
                          qpbenchmark_run: bool = True) -> Dict:
-    """Run the benchmark and write ``results.csv``, ``report.md`` and figures.
+    """Run the benchmark and write ``results.csv.gz``, ``report.md`` and figures.
 
     Returns:
         A summary: paths, row count, durations of the stages [s].
@@ -189,7 +189,7 @@ def run_solver_benchmark(config: SolverBenchConfig, out_dir: Path, *, progress: 
     t0 = time.perf_counter()
     rows = TimedPool(config.timing_workers).run(cases, progress=progress, desc="solves")
     durations["solves"] = time.perf_counter() - t0
-    write_results(rows, out_dir / "results.csv")
+    write_results(rows, out_dir / RESULTS_FILE)
 
     extras: Dict = {"prepared": [{k: v for k, v in p.items() if k not in ("kept", "dropped")}
                                  | {"nb_kept": len(p["kept"]),
@@ -215,12 +215,12 @@ def run_solver_benchmark(config: SolverBenchConfig, out_dir: Path, *, progress: 
     (out_dir / "extras.json").write_text(json.dumps(extras, separators=(",", ":"),
                                                     default=str) + "\n")
     write_report(out_dir, rows, config, extras)
-    return {"results": out_dir / "results.csv", "report": out_dir / "report.md",
+    return {"results": out_dir / RESULTS_FILE, "report": out_dir / "report.md",
             "rows": len(rows), "durations": durations}
 
 
 def rewrite_report(out_dir: Path) -> Path:
-    """Write ``report.md`` and the figures again from ``results.csv`` and
+    """Write ``report.md`` and the figures again from ``results.csv.gz`` and
     ``extras.json`` of a finished run (no solve is made)."""
     from .solver_report import write_report
     from .solver_results import read_results
@@ -230,7 +230,7 @@ def rewrite_report(out_dir: Path) -> Path:
     fields = {k: tuple(v) if isinstance(v, list) else v
               for k, v in extras.get("config", {}).items()}
     config = SolverBenchConfig(**fields)
-    return write_report(out_dir, read_results(out_dir / "results.csv"), config, extras)
+    return write_report(out_dir, read_results(out_dir / RESULTS_FILE), config, extras)
 
 
 def _fast_qpsolvers(rows: List[Dict], config: SolverBenchConfig, limit: float = 2e-3) -> List[str]:

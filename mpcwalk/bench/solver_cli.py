@@ -60,7 +60,7 @@ def add_solver_bench_parser(bsub) -> None:
     p = bsub.add_parser(
         "solvers",
         help="every QP back-end on the walking QPs: offline (qpbenchmark conventions), "
-        "growth with the horizon, in the loop; results.csv and report.md",
+        "growth with the horizon, in the loop; results.csv.gz and report.md",
     )
     p.add_argument("--quick", action="store_true", help="reduced run (a few minutes)")
     p.add_argument("--out", type=Path, required=True, help="output directory")
@@ -77,5 +77,5 @@ def add_solver_bench_parser(bsub) -> None:
     p.add_argument("--no-qpbenchmark", action="store_true", help="skip the qpbenchmark run")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--report-only", action="store_true",
-                   help="rewrite report.md and the figures from DIR/results.csv and extras.json")
+                   help="rewrite report.md and the figures from DIR/results.csv.gz and extras.json")
     p.set_defaults(bench_func=_run)

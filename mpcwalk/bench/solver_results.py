@@ -1,4 +1,7 @@
-"""``results.csv`` of the solver benchmark: writing, reading and statistics.
+"""``results.csv.gz`` of the solver benchmark: writing, reading and statistics.
+
+One row per solve, gzip-compressed (the full run has about 17,000 rows: 3.6 MB of text,
+0.5 MB compressed); a plain ``.csv`` path is written and read uncompressed.
 
 The statistics follow qpbenchmark where it has a convention: success rates
 per tolerance level, and the shifted geometric mean of runtimes with a shift
@@ -9,6 +12,7 @@ and the growth of the solve time with the horizon is fitted as a power law.
 """
 
 import csv
+import gzip
 import math
 from pathlib import Path
 from typing import Dict, Iterable, List, Optional, Sequence, Tuple
@@ -21,17 +25,27 @@ _INTS = ("horizon", "tick", "n", "m")
 _FLOATS = ("sampling_period", "time", "runtime", "primal_residual", "dual_residual",
            "duality_gap", "warmup_runtime")
 _BOOLS = ("pushed", "found", "success", "timeout")
+#: File name of the rows in a benchmark's output directory.
+RESULTS_FILE = "results.csv.gz"
 #: Shift of qpbenchmark's shifted geometric mean of runtimes, in [s].
 RUNTIME_SHIFT = 10.0
 
 
 def write_results(rows: Iterable[Dict], path: Path) -> None:
-    """Write rows to a CSV file with the :data:`CSV_COLUMNS` header."""
-    with open(path, "w", newline="") as stream:
+    """Write rows to a CSV file (gzip-compressed for a ``.gz`` path) with the
+    :data:`CSV_COLUMNS` header."""
+    with _open(path, "w") as stream:
         writer = csv.DictWriter(stream, fieldnames=CSV_COLUMNS, extrasaction="ignore")
         writer.writeheader()
         for row in rows:
             writer.writerow({k: _cell(row.get(k)) for k in CSV_COLUMNS})
+
+
+def _open(path: Path, mode: str):
+    """Text stream of a CSV file, through gzip for a ``.gz`` path."""
+    if str(path).endswith(".gz"):
+        return gzip.open(path, mode + "t", newline="")
+    return open(path, mode, newline="")
 
 
 def _cell(value) -> str:
@@ -44,9 +58,9 @@ def _cell(value) -> str:
 
 
 def read_results(path: Path) -> List[Dict]:
-    """Rows of a ``results.csv``, with numbers and booleans typed back."""
+    """Rows of a results file (``.csv`` or ``.csv.gz``), numbers and booleans typed back."""
     rows = []
-    with open(path, newline="") as stream:
+    with _open(path, "r") as stream:
         for raw in csv.DictReader(stream):
             row: Dict = dict(raw)
             for key in _INTS:
