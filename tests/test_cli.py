@@ -68,3 +68,19 @@ def test_tick_benchmark_reduced_run():
         assert r.failures == 0, r.label
     table = format_table(results)
     assert table.count("\n") == len(results) + 1
+
+
+def test_bench_commands_write_their_markdown_and_json(tmp_path, capsys):
+    import json
+
+    assert main(["bench", "ticks", "--steps", "2", "--solvers", "daqp", "--no-peer",
+                 "--no-progress", "--out", str(tmp_path / "ticks")]) == 0
+    assert main(["bench", "ik", "--robots", "bioloid-like", "--duration", "0.3", "--no-pink",
+                 "--no-progress", "--out", str(tmp_path / "ik")]) == 0
+    for name in ("ticks", "ik"):
+        text = (tmp_path / name / f"{name}.md").read_text()
+        rows = json.loads((tmp_path / name / f"{name}.json").read_text())
+        assert f"Command: `mpcwalk bench {name}" in text and "cores, Python" in text
+        assert rows and text.count("\n| ") >= len(rows)  # a table row per result
+    out = capsys.readouterr().out
+    assert "wrote " in out and "ticks.json" in out and "ik.json" in out

@@ -1,12 +1,13 @@
 """``mpcwalk bench ...`` sub-commands."""
 
-import json
+from dataclasses import asdict
 from pathlib import Path
 
 
 def _run_ticks(args) -> int:
     from ..footsteps.velocity_planner import VelocityCommand
-    from .ticks import format_table, machine_description, results_as_dicts, run_tick_benchmark
+    from .output import machine_description, write_bench_output
+    from .ticks import format_table, run_tick_benchmark
 
     results = run_tick_benchmark(
         nb_steps=args.steps,
@@ -28,13 +29,8 @@ def _run_ticks(args) -> int:
         f"Machine: {machine_description()}.\n"
         f"Command: `mpcwalk bench ticks --out {args.out}`\n"
     )
-    print(header)
-    print(table)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "ticks.json").write_text(json.dumps(results_as_dicts(results), indent=2) + "\n")
-    (out / "ticks.md").write_text(header + "\n" + table + "\n")
-    print(f"\nwrote {out / 'ticks.json'} and {out / 'ticks.md'}")
+    write_bench_output(args.out, "ticks", header + "\n" + table + "\n",
+                       [asdict(r) for r in results])
     return 0
 
 

@@ -10,12 +10,11 @@ configuration are measured outside the timed part, with the same forward kinemat
 Ratios are taken against pink with DAQP measured in the same run.
 """
 
-import json
 import logging
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Dict, List, Optional, Sequence
+from typing import List, Optional, Sequence
 
 import numpy as np
 import pinocchio as pin
@@ -237,13 +236,9 @@ def format_ik_table(results: List[IKBenchCase]) -> str:
     return "\n".join(lines)
 
 
-def ik_results_as_dicts(results: List[IKBenchCase]) -> List[Dict]:
-    """JSON-ready rows."""
-    return [asdict(r) for r in results]
-
 
 def _run_ik_command(args) -> int:
-    from .ticks import machine_description
+    from .output import machine_description, write_bench_output
 
     pink_solvers = () if args.no_pink else tuple(s for s in args.pink_solvers.split(",") if s)
     results = run_ik_benchmark(
@@ -258,13 +253,8 @@ def _run_ik_command(args) -> int:
         f"at {1.0 / args.control_period:g} Hz. Machine: {machine_description()}.\n"
         f"Command: `mpcwalk bench ik --out {args.out}`\n"
     )
-    print(header)
-    print(table)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "ik.json").write_text(json.dumps(ik_results_as_dicts(results), indent=2) + "\n")
-    (out / "ik.md").write_text(header + "\n" + table + "\n")
-    print(f"\nwrote {out / 'ik.json'} and {out / 'ik.md'}")
+    write_bench_output(args.out, "ik", header + "\n" + table + "\n",
+                       [asdict(r) for r in results])
     return 0
 
 

@@ -7,7 +7,6 @@ Each walk runs in this process, one after the other, with the same settings as
 in the same run.
 """
 
-import json
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Dict, List, Sequence, Tuple
@@ -143,14 +142,12 @@ def format_loop_table(cases: Sequence[LoopCase]) -> str:
 
 
 def _run_loop_command(args) -> int:
-    from .ik_bench import format_ik_table, ik_results_as_dicts, run_ik_benchmark
-    from .ticks import machine_description
+    from .ik_bench import format_ik_table, run_ik_benchmark
+    from .output import machine_description, write_bench_output
 
     cases = run_loop_benchmark(progress=not args.no_progress)
     robots = sorted({c.robot for c in cases}, key=[w[0] for w in DEFAULT_WALKS].index)
     ik = run_ik_benchmark(robots, progress=not args.no_progress)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     text = (
         f"The walks of the robots/MuJoCo issue in MuJoCo, control period 10 ms, one process, "
         f"walks one after the other; medians per tick. Machine: {machine_description()}.\n"
@@ -159,11 +156,9 @@ def _run_loop_command(args) -> int:
         + "\n\nIK tick, ours beside pink on the same tasks, robot and motion (same run):\n\n"
         + format_ik_table(ik) + "\n"
     )
-    print(text)
-    (out / "loop.md").write_text(text)
-    payload: Dict[str, List] = {"walks": [asdict(c) for c in cases], "ik": ik_results_as_dicts(ik)}
-    (out / "loop.json").write_text(json.dumps(payload, indent=2) + "\n")
-    print(f"wrote {out / 'loop.md'} and {out / 'loop.json'}")
+    payload: Dict[str, List] = {"walks": [asdict(c) for c in cases],
+                                "ik": [asdict(r) for r in ik]}
+    write_bench_output(args.out, "loop", text, payload)
     return 0
 
 

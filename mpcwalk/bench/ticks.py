@@ -6,8 +6,7 @@ generators). Ratios are taken against the closed-form generator measured in
 the same run.
 """
 
-import platform
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from typing import Dict, List, Optional, Sequence
 
 import numpy as np
@@ -169,13 +168,3 @@ def format_table(results: List[TickCase]) -> str:
     return "\n".join(lines)
 
 
-def machine_description() -> str:
-    """One line describing the machine the benchmark ran on."""
-    import os
-
-    return f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}"
-
-
-def results_as_dicts(results: List[TickCase]) -> List[Dict]:
-    """JSON-ready rows."""
-    return [asdict(r) for r in results]
