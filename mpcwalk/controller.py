@@ -208,13 +208,15 @@ class WalkingController:
                   **options) -> "WalkingController":
         """Controller with the generator called ``generator`` on the robot's LIPM.
 
-        ``generator_options`` go to the generator, ``options`` to the controller.
+        ``generator_options`` go to the generator, over what the generator takes from the
+        robot (:meth:`PatternGenerator.robot_options`), ``options`` to the controller.
         """
-        from .generators import make_generator
+        from .generators import generator_class
         from .models.lipm import LIPM
 
-        pattern = make_generator(generator, lipm=LIPM(com_height=robot.com_height),
-                                 control_period=control_period, **(generator_options or {}))
+        cls_ = generator_class(generator)
+        pattern = cls_(lipm=LIPM(com_height=robot.com_height), control_period=control_period,
+                       **{**cls_.robot_options(robot), **(generator_options or {})})
         return cls(robot, pattern, schedule, control_period=control_period, **options)
 
     @property

@@ -30,8 +30,6 @@ from .walk_report import WalkLog, compute_walk_metrics, yaw_deviation_deg
 
 _LIMIT_KEYS = ("max_step_forward", "max_step_backward", "max_step_lateral", "max_step_yaw",
                "max_step_yaw_inward", "y_sep", "half_stance_width")
-_MPC_KEYS = {"mpc_sampling_period": ("sampling_period", float),
-             "mpc_horizon": ("horizon", int), "mpc_jerk_weight": ("jerk_weight", float)}
 _CONTROLLER_KEYS = ("dcm_gain", "observer_gain")
 
 
@@ -150,19 +148,6 @@ def _gait_value(robot: Robot, key: str, value, default):
     return robot.preset.gait.get(key, default)
 
 
-def _generator_options(robot: Robot, generator: str, options: Optional[dict]) -> dict:
-    merged = {}
-    if generator in ("mpc", "mpc-steps"):
-        for key, (name, cast) in _MPC_KEYS.items():
-            # the jerk weight's scale differs in the footstep-adaptive MPC's cost
-            if key in robot.preset.gait and (generator == "mpc" or key != "mpc_jerk_weight"):
-                merged[name] = cast(robot.preset.gait[key])
-    if generator == "mpc-steps":
-        merged["reachability"] = leg_limits(robot)
-    merged.update(options or {})
-    return merged
-
-
 def run_walk(
     robot_name: Union[str, Robot],
     generator: str = "mpc",
@@ -249,7 +234,7 @@ def run_walk(
     controller = WalkingController.for_robot(
         robot, generator, schedule, control_period=control_period, feedback=feedback,
         step_height=_gait_value(robot, "step_height", step_height, None),
-        generator_options=_generator_options(robot, generator, generator_options), **options)
+        generator_options=generator_options, **options)
     simulation = Simulation(robot, control_period=control_period, disturbances=pushes)
     detector = fall_detector or FallDetector.for_robot(robot)
     log, fall, wall_time = _simulate(robot, controller, simulation, detector, video, progress,

@@ -38,18 +38,13 @@ from typing import Any, Dict, List, Union
 
 import numpy as np
 
+from .arrays import frozen_array
 from .exceptions import ConfigurationError
 from .footsteps.footstep import Side, wrap_angle
 from .gait.contact_schedule import ContactSchedule
 from .models.support_polygon import SupportPolygon, foot_rectangle
 
 _SIDES = (Side.LEFT, Side.RIGHT)
-
-
-def _array(values, dtype=float) -> np.ndarray:
-    array = np.array(values, dtype=dtype)
-    array.setflags(write=False)
-    return array
 
 
 @dataclass(frozen=True)
@@ -202,9 +197,9 @@ class WalkLogRecorder:
         arrays = {}
         for name, values in self.rows.items():
             dtype = bool if name in ("contact", "generator_failed") else float
-            arrays[name] = _array(values if values else np.zeros(empty.get(name, (0,))), dtype)
+            arrays[name] = frozen_array(values if values else np.zeros(empty.get(name, (0,))), dtype=dtype)
         return WalkLog(**arrays, joint_names=tuple(self.robot.joint_names),
-                       torque_limit=_array(limit))
+                       torque_limit=frozen_array(limit))
 
 
 def measured_support_polygon(schedule: ContactSchedule, t: float, sole_positions: np.ndarray,

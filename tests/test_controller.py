@@ -286,3 +286,22 @@ def test_control_output_is_frozen():
     assert isinstance(out, ControlOutput)
     with pytest.raises(AttributeError):
         out.time = 1.0
+
+
+def test_generators_take_their_robot_options_from_the_preset():
+    from mpcwalk.footsteps import LegLimits
+    from mpcwalk.generators import generator_class
+    from mpcwalk.robots import load_robot
+
+    g1 = load_robot("g1", visual=False)  # [gait] mpc_sampling_period 0.05, mpc_horizon 40
+    assert generator_class("mpc").robot_options(g1) == {"sampling_period": 0.05, "horizon": 40}
+    steps = generator_class("mpc-steps").robot_options(g1)
+    assert steps["horizon"] == 40 and "jerk_weight" not in steps
+    assert isinstance(steps["reachability"], LegLimits)
+    assert generator_class("static-qp").robot_options(g1) == {}
+    assert generator_class("analytic").robot_options(g1) == {}
+    schedule = make_schedule(g1, nb_steps=1)
+    controller = WalkingController.for_robot(g1, "mpc", schedule,
+                                             generator_options={"horizon": 20})
+    assert controller.generator.parameters.horizon == 20  # the caller's option wins
+    assert controller.generator.parameters.sampling_period == 0.05  # the preset's

@@ -23,6 +23,7 @@ from typing import Optional
 import numpy as np
 import pinocchio as pin
 
+from ..arrays import as_float, as_float_array
 from ..exceptions import ConfigurationError
 from .jtraj import check_nb_samples, jtraj
 
@@ -72,13 +73,10 @@ def as_homogeneous(pose, name: str = "pose") -> np.ndarray:
     """
     if isinstance(pose, pin.SE3):
         return np.array(pose.homogeneous, dtype=float)
-    try:
-        matrix = np.array(pose, dtype=float)
-    except (TypeError, ValueError):
-        matrix = None
-    if matrix is None or matrix.shape != (4, 4) or not np.all(np.isfinite(matrix)):
+    matrix = np.array(as_float_array(pose))  # a copy: the caller's array stays theirs
+    if matrix.shape != (4, 4) or not np.all(np.isfinite(matrix)):
         came = type(pose).__name__
-        if matrix is not None:
+        if matrix.size:
             came += f" of shape {matrix.shape}"
         raise ConfigurationError(
             f"{name} must be a pinocchio.SE3 or a finite 4x4 homogeneous transform, "
@@ -129,10 +127,7 @@ def ctraj(
         )
     translation = end[:3, 3] - start[:3, 3]
     if precision is not None:
-        try:
-            precision = float(precision)
-        except (TypeError, ValueError):
-            precision = float("nan")
+        precision = as_float(precision)
         if not np.isfinite(precision) or precision <= 0.0:
             raise ConfigurationError(
                 f"precision must be a positive distance in metres, got {precision!r}."

@@ -21,6 +21,7 @@ from typing import Optional, Tuple
 
 import numpy as np
 
+from ..arrays import as_float
 from ..exceptions import ConfigurationError
 
 PROFILES = ("quintic", "trapezoidal")
@@ -160,10 +161,7 @@ def jtraj(
                 "The trapezoidal profile starts and ends at rest; drop qd0/qd1 or "
                 "use profile='quintic' for non-zero boundary velocities."
             )
-        try:
-            fraction = float(acceleration_fraction)
-        except (TypeError, ValueError):
-            fraction = float("nan")
+        fraction = as_float(acceleration_fraction)
         if not 0.0 < fraction <= 0.5:
             raise ConfigurationError(
                 f"acceleration_fraction must lie in (0, 0.5], got "

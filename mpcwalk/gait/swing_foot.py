@@ -20,6 +20,7 @@ from typing import Dict, Optional, Tuple, Union
 
 import numpy as np
 
+from ..arrays import as_float, frozen_array
 from ..exceptions import ConfigurationError
 from ..footsteps.footstep import Footstep, Side, wrap_angle
 from .contact_schedule import ContactSchedule
@@ -29,12 +30,6 @@ from .interpolation import (
     swing_height_profile,
     swing_height_profile_derivative,
 )
-
-
-def _frozen(values) -> np.ndarray:
-    array = np.array(values, dtype=float)
-    array.setflags(write=False)
-    return array
 
 
 @dataclass(frozen=True)
@@ -101,7 +96,7 @@ class FeetState:
 
 
 def _static_state(foot: Footstep) -> FootState:
-    return FootState(_frozen(foot.position), foot.yaw, _frozen(np.zeros(3)), 0.0, True)
+    return FootState(frozen_array(foot.position), foot.yaw, frozen_array(np.zeros(3)), 0.0, True)
 
 
 #: Swing-foot profiles: paper M's cosines, paper A's Cartesian quintic lift and lower.
@@ -140,10 +135,7 @@ class SwingFootTrajectory:
                 f"SwingFootTrajectory needs a ContactSchedule, got "
                 f"{type(schedule).__name__}; build one with ContactSchedule(plan)."
             )
-        try:
-            step_height = float(step_height)
-        except (TypeError, ValueError):
-            step_height = float("nan")
+        step_height = as_float(step_height)
         if not np.isfinite(step_height) or step_height < 0.0:
             raise ConfigurationError(
                 f"step_height must be a non-negative number of metres, got "
@@ -183,7 +175,7 @@ class SwingFootTrajectory:
             if yaws:
                 mean = yaws[-1] + float(wrap_angle(mean - yaws[-1]))
             yaws.append(mean)
-        return _frozen(yaws)
+        return frozen_array(yaws)
 
     def _interpolants(self, t: float) -> Tuple[int, float, float]:
         """Active step, ``h`` and ``dh/dt`` at time ``t``.
@@ -206,10 +198,7 @@ class SwingFootTrajectory:
 
     @staticmethod
     def _check_time(t) -> float:
-        try:
-            t = float(t)
-        except (TypeError, ValueError):
-            t = float("nan")
+        t = as_float(t)
         if not np.isfinite(t):
             raise ConfigurationError(f"Time must be a finite number of seconds, got {t!r}.")
         return t
@@ -268,7 +257,7 @@ class SwingFootTrajectory:
         velocity = np.array(state.linear_velocity)
         position[:2] = origin + r * delta
         velocity[:2] = dr * delta
-        return FootState(_frozen(position), yaw0 + r * delta_yaw, _frozen(velocity),
+        return FootState(frozen_array(position), yaw0 + r * delta_yaw, frozen_array(velocity),
                          dr * delta_yaw, False)
 
     def _ctraj_interpolants(self, phi: float) -> Tuple[float, float, float, float]:
@@ -291,7 +280,7 @@ class SwingFootTrajectory:
         position = lift.position + h * delta + v * lift_direction
         velocity = dh * delta + dv * lift_direction
         return FootState(
-            _frozen(position), lift.yaw + h * delta_yaw, _frozen(velocity),
+            frozen_array(position), lift.yaw + h * delta_yaw, frozen_array(velocity),
             dh * delta_yaw, False,
         )
 

@@ -92,6 +92,18 @@ class MpcGenerator(PatternGenerator):
     MPC diverges for a CoM height of 1.09 m (measured), while it changes the
     small humanoid's plan by less than 0.1 mm of ZMP margin."""
 
+    #: Keys of a robot preset's ``[gait]`` table -> (parameter, type).
+    PRESET_KEYS: ClassVar[dict] = {"mpc_sampling_period": ("sampling_period", float),
+                                   "mpc_horizon": ("horizon", int),
+                                   "mpc_jerk_weight": ("jerk_weight", float)}
+
+    @classmethod
+    def robot_options(cls, robot) -> dict:
+        """The horizon and weights of the robot preset's ``[gait]`` table (``mpc_*`` keys)."""
+        gait = robot.preset.gait
+        return {name: cast(gait[key]) for key, (name, cast) in cls.PRESET_KEYS.items()
+                if key in gait}
+
     def __init__(
         self,
         *,

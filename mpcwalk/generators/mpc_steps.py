@@ -193,13 +193,24 @@ class FootstepMpcGenerator(PatternGenerator):
         self._failures = 0
 
     @classmethod
-    def for_robot(cls, robot, **options) -> "FootstepMpcGenerator":
-        """Generator with the robot's CoM height and leg limits (``options`` override)."""
+    def robot_options(cls, robot) -> dict:
+        """The robot's leg limits, and the horizon of its preset's ``[gait]`` table
+        (``mpc_sampling_period``, ``mpc_horizon``; not ``mpc_jerk_weight``, whose scale
+        differs in this cost)."""
         from ..walk import leg_limits  # the robot layer sits above the generators
+        from .mpc import MpcGenerator
 
-        options.setdefault("lipm", LIPM(com_height=robot.com_height))
-        options.setdefault("reachability", leg_limits(robot))
-        return cls(**options)
+        options = {key: value for key, value in MpcGenerator.robot_options(robot).items()
+                   if key != "jerk_weight"}
+        options["reachability"] = leg_limits(robot)
+        return options
+
+    @classmethod
+    def for_robot(cls, robot, **options) -> "FootstepMpcGenerator":
+        """Generator with the robot's CoM height, leg limits and preset horizon (``options``
+        override)."""
+        return cls(**{"lipm": LIPM(com_height=robot.com_height), **cls.robot_options(robot),
+                      **options})
 
     # ------------------------------------------------------------------ reset
     def _reset(self, schedule: ContactSchedule, initial_state: ComState) -> GeneratorOutput:

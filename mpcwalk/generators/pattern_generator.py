@@ -146,6 +146,13 @@ class PatternGenerator(ABC):
     #: back into this generator by default (its ``observer_gain``; closed forms ignore it).
     observer_gain: ClassVar[float] = 0.05
 
+    @classmethod
+    def robot_options(cls, robot) -> dict:
+        """Keyword arguments of this generator taken from a robot (its preset's walking
+        defaults, its leg limits); :meth:`WalkingController.for_robot
+        <mpcwalk.controller.WalkingController.for_robot>` passes them under the caller's."""
+        return {}
+
     def __init__(self, *, lipm: LIPM = LIPM(), control_period: float = 0.01) -> None:
         if not np.isfinite(control_period) or control_period <= 0.0:
             raise ConfigurationError(

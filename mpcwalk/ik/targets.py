@@ -6,27 +6,19 @@ from typing import Optional
 import numpy as np
 import pinocchio as pin
 
+from ..arrays import as_float_array, frozen_array
 from ..exceptions import ConfigurationError
 from .tasks import finite_vector
 
 _ROTATION_TOLERANCE = 1e-6
 
 
-def _frozen(array: np.ndarray) -> np.ndarray:
-    array = np.array(array, dtype=float)
-    array.setflags(write=False)
-    return array
-
-
 def _as_vector(value, size: int, name: str) -> np.ndarray:
-    return _frozen(finite_vector(value, size, f"IK target {name}"))
+    return frozen_array(finite_vector(value, size, f"IK target {name}"))
 
 
 def _as_rotation(value, name: str) -> np.ndarray:
-    try:
-        rotation = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        rotation = np.full(0, np.nan)
+    rotation = as_float_array(value)
     if rotation.shape != (3, 3) or not np.all(np.isfinite(rotation)):
         raise ConfigurationError(
             f"IK target {name} must be a 3x3 rotation matrix, got shape {np.shape(value)}."
@@ -38,16 +30,13 @@ def _as_rotation(value, name: str) -> np.ndarray:
             f"{np.linalg.det(rotation):.3f}); orthonormalise it, e.g. with "
             "pinocchio.exp3(pinocchio.log3(R))."
         )
-    return _frozen(rotation)
+    return frozen_array(rotation)
 
 
 def _as_pose(value, name: str) -> pin.SE3:
     if isinstance(value, pin.SE3):
         value = value.homogeneous
-    try:
-        matrix = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        matrix = np.full(0, np.nan)
+    matrix = as_float_array(value)
     if matrix.shape != (4, 4) or not np.allclose(matrix[3], [0.0, 0.0, 0.0, 1.0]):
         raise ConfigurationError(
             f"IK target {name} must be a pinocchio.SE3 or a 4x4 homogeneous transform, got "

@@ -19,6 +19,7 @@ from typing import Optional, Sequence, Tuple, Union
 import numpy as np
 import pinocchio as pin
 
+from ..arrays import as_float_array
 from ..exceptions import ConfigurationError
 from ..robots import FrameNotFound
 
@@ -46,10 +47,7 @@ def _weights(value: Union[float, Sequence[float]], size: int, name: str) -> np.n
 
 def finite_vector(value, size: int, name: str) -> np.ndarray:
     """``value`` as a float array of shape (size,), or a ConfigurationError naming ``name``."""
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        array = np.full(0, np.nan)
+    array = as_float_array(value)
     if array.shape != (size,) or not np.all(np.isfinite(array)):
         raise ConfigurationError(
             f"{name} must be an array of {size} finite numbers, got shape {np.shape(value)}: "

@@ -24,6 +24,7 @@ import numpy as np
 import pinocchio as pin
 from scipy.linalg import lapack
 
+from ..arrays import as_float
 from ..exceptions import ConfigurationError, SolverNotFound
 from .joint_bounds import JointBounds, solve_box_qp
 from .targets import IKResult, IKTargets, TaskErrors
@@ -158,10 +159,7 @@ class WholeBodyIK:
                 f"q must be {self.model.nq} finite numbers (robot '{self.robot.name}'), got "
                 f"shape {q.shape}."
             )
-        try:
-            dt = float(dt)
-        except (TypeError, ValueError):
-            dt = float("nan")
+        dt = as_float(dt)
         if not (np.isfinite(dt) and dt > 0.0):
             raise ConfigurationError(f"dt must be a positive number of seconds, got {dt!r}.")
         return q, dt

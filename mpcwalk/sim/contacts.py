@@ -6,7 +6,8 @@ import mujoco
 import numpy as np
 
 from ..exceptions import ConfigurationError
-from .measurements import FootContact, frozen_array
+from ..arrays import frozen_array
+from .measurements import FootContact
 
 _NAN3 = frozen_array([np.nan, np.nan, np.nan])
 

@@ -6,20 +6,11 @@ simulation never change.
 
 import math
 from dataclasses import dataclass
-from typing import Optional, Tuple
+from typing import Tuple
 
 import numpy as np
 
 from ..generators.pattern_generator import ComState
-
-
-def frozen_array(values, shape: Optional[Tuple[int, ...]] = None) -> np.ndarray:
-    """Read-only float copy of ``values`` (reshaped to ``shape`` when given)."""
-    array = np.array(values, dtype=float)
-    if shape is not None:
-        array = array.reshape(shape)
-    array.setflags(write=False)
-    return array
 
 
 def quaternion_to_rpy(quaternion_wxyz: np.ndarray) -> Tuple[float, float, float]:

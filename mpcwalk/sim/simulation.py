@@ -12,7 +12,8 @@ from ..exceptions import ConfigurationError, MpcwalkError
 from ..robots import Robot
 from .contacts import ContactEstimator
 from .disturbances import ExternalForce, resolve_body
-from .measurements import ImuReading, Measurements, SimState, frozen_array, quaternion_to_rpy
+from ..arrays import frozen_array
+from .measurements import ImuReading, Measurements, SimState, quaternion_to_rpy
 
 _UNSTABLE_WARNINGS = (
     mujoco.mjtWarning.mjWARN_BADQACC,
