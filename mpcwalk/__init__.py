@@ -6,7 +6,7 @@ Ribeiro's ZMP walking engine, the static Atlas gait of the DARPA VRC), all
 behind one pattern-generator protocol.
 """
 
-from .exceptions import (
+from mpcwalk.exceptions import (
     ConfigurationError,
     FootstepFileError,
     GeneratorNotFound,
@@ -17,7 +17,7 @@ from .exceptions import (
     NotReset,
     SolverNotFound,
 )
-from .footsteps import (
+from mpcwalk.footsteps import (
     FootGeometry,
     Footstep,
     FootstepPlan,
@@ -33,8 +33,9 @@ from .footsteps import (
     read_mdat,
     write_mdat,
 )
-from .gait import ContactSchedule, SwingFootTrajectory, ctraj, jtraj
-from .generators import (
+from mpcwalk.gait import ContactSchedule, SwingFootTrajectory, ctraj, jtraj
+from mpcwalk.gait.support_margins import support_margins
+from mpcwalk.generators import (
     ComState,
     GeneratorOutput,
     Horizon,
@@ -45,34 +46,33 @@ from .generators import (
     make_generator,
     rollout,
 )
-from .generators.analytic import AnalyticGenerator
-from .generators.preview import PreviewGenerator
-from .generators.static import StaticGenerator
-from .metrics import support_margins
-from .models import LIPM, CartTable, SupportPolygon, foot_rectangle
+from mpcwalk.generators.analytic import AnalyticGenerator
+from mpcwalk.generators.preview import PreviewGenerator
+from mpcwalk.generators.static import StaticGenerator
+from mpcwalk.models import LIPM, CartTable, SupportPolygon, foot_rectangle
 
 __version__ = "0.1.0"
 
 #: Imported on first use: the QP generators pull in qpsolvers and CasADi (~1 s).
 _LAZY = {
-    "MpcGenerator": ".generators.mpc",
-    "StaticQPGenerator": ".generators.static_qp",
-    "MpcParameters": ".qp",
-    "WalkingQP": ".qp",
+    "MpcGenerator": "mpcwalk.generators.mpc",
+    "StaticQPGenerator": "mpcwalk.generators.static_qp",
+    "MpcParameters": "mpcwalk.qp",
+    "WalkingQP": "mpcwalk.qp",
     # robots, simulation and the walk load Pinocchio models and MuJoCo
-    "load_robot": ".robots",
-    "robot_names": ".robots",
-    "Robot": ".robots",
-    "WholeBodyIK": ".ik",
-    "IKTargets": ".ik",
-    "Simulation": ".sim",
-    "WalkingController": ".controller",
-    "run_walk": ".walk",
-    "WalkResult": ".walk",
-    "PaperAStateMachine": ".paper_a",
-    "make_stabilizer": ".stabilizers",
-    "GyroStabilizer": ".stabilizers.gyro",
-    "ArmSwing": ".gait.arm_swing",
+    "load_robot": "mpcwalk.robot.loading",
+    "robot_names": "mpcwalk.robot.loading",
+    "Robot": "mpcwalk.robot.loading",
+    "WholeBodyIK": "mpcwalk.ik",
+    "IKTargets": "mpcwalk.ik",
+    "Simulation": "mpcwalk.sim",
+    "WalkingController": "mpcwalk.control.controller",
+    "run_walk": "mpcwalk.walking.runner",
+    "WalkResult": "mpcwalk.walking.runner",
+    "PaperAStateMachine": "mpcwalk.control.stabilizers.paper_a",
+    "make_stabilizer": "mpcwalk.control.stabilizers",
+    "GyroStabilizer": "mpcwalk.control.stabilizers.gyro",
+    "ArmSwing": "mpcwalk.gait.arm_swing",
 }
 
 
@@ -80,19 +80,70 @@ def __getattr__(name):
     if name in _LAZY:
         import importlib
 
-        return getattr(importlib.import_module(_LAZY[name], __name__), name)
+        return getattr(importlib.import_module(_LAZY[name]), name)
     raise AttributeError(f"module 'mpcwalk' has no attribute {name!r}")
 
+
 __all__ = [
-    "ArmSwing", "GyroStabilizer", "IKTargets", "PaperAStateMachine", "Robot", "Simulation", "WalkResult", "WalkingController",
-    "WholeBodyIK", "load_robot", "make_stabilizer", "robot_names", "run_walk",
-    "AnalyticGenerator", "CartTable", "ComState", "ConfigurationError", "ContactSchedule",
-    "FootGeometry", "Footstep", "FootstepFileError", "FootstepPlan", "GeneratorNotFound",
-    "GeneratorOutput", "Horizon", "InfeasibleCommand", "InfeasibleStep", "LIPM", "LegLimits",
-    "MpcGenerator", "MpcParameters", "MpcwalkError", "NoSolutionFound", "NotReset", "PathFollower", "PatternGenerator",
-    "PreviewGenerator", "ReachabilityRectangle", "Rollout", "Side", "SolveInfo",
-    "SolverNotFound", "StaticGenerator", "StaticQPGenerator", "StepTiming", "SupportPolygon", "SwingFootTrajectory",
-    "VelocityCommand", "VelocityPlanner", "WalkingQP", "ctraj", "foot_rectangle", "generator_names", "jtraj",
-    "make_generator", "plan_from_path", "plan_from_velocity", "read_mdat", "rollout",
-    "support_margins", "write_mdat",
+    "LIPM",
+    "AnalyticGenerator",
+    "ArmSwing",
+    "CartTable",
+    "ComState",
+    "ConfigurationError",
+    "ContactSchedule",
+    "FootGeometry",
+    "Footstep",
+    "FootstepFileError",
+    "FootstepPlan",
+    "GeneratorNotFound",
+    "GeneratorOutput",
+    "GyroStabilizer",
+    "Horizon",
+    "IKTargets",
+    "InfeasibleCommand",
+    "InfeasibleStep",
+    "LegLimits",
+    "MpcGenerator",
+    "MpcParameters",
+    "MpcwalkError",
+    "NoSolutionFound",
+    "NotReset",
+    "PaperAStateMachine",
+    "PathFollower",
+    "PatternGenerator",
+    "PreviewGenerator",
+    "ReachabilityRectangle",
+    "Robot",
+    "Rollout",
+    "Side",
+    "Simulation",
+    "SolveInfo",
+    "SolverNotFound",
+    "StaticGenerator",
+    "StaticQPGenerator",
+    "StepTiming",
+    "SupportPolygon",
+    "SwingFootTrajectory",
+    "VelocityCommand",
+    "VelocityPlanner",
+    "WalkResult",
+    "WalkingController",
+    "WalkingQP",
+    "WholeBodyIK",
+    "ctraj",
+    "foot_rectangle",
+    "generator_names",
+    "jtraj",
+    "load_robot",
+    "make_generator",
+    "make_stabilizer",
+    "plan_from_path",
+    "plan_from_velocity",
+    "read_mdat",
+    "robot_names",
+    "rollout",
+    "run_walk",
+    "support_margins",
+    "write_mdat",
 ]

@@ -4,7 +4,8 @@ Every error the library raises on purpose derives from :class:`MpcwalkError`.
 Messages say what was expected, what came, and how to fix it.
 """
 
-from typing import Any, Optional, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 
 class MpcwalkError(Exception):
@@ -48,8 +49,8 @@ class FootstepFileError(MpcwalkError, ValueError):
         message: str,
         *,
         path: str = "<string>",
-        line: Optional[int] = None,
-        field: Optional[str] = None,
+        line: int | None = None,
+        field: str | None = None,
     ) -> None:
         self.path = path
         self.line = line
@@ -80,8 +81,7 @@ class GeneratorNotFound(MpcwalkError, ValueError):
         self.name = name
         self.available = list(available)
         super().__init__(
-            f"Unknown pattern generator '{name}'; choose one of "
-            f"{', '.join(self.available)}."
+            f"Unknown pattern generator '{name}'; choose one of {', '.join(self.available)}."
         )
 
 

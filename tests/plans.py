@@ -3,19 +3,36 @@ footsteps along an arc."""
 
 import numpy as np
 
-from mpcwalk.footsteps.footstep import FootGeometry, Footstep, FootstepPlan, Side, StepTiming, rotation_2d
+from mpcwalk.footsteps.footstep import (
+    FootGeometry,
+    Footstep,
+    FootstepPlan,
+    Side,
+    StepTiming,
+    rotation_2d,
+)
 from mpcwalk.gait.contact_schedule import ContactSchedule
 
 
-def arc_schedule(step, nb_steps=20, *, step_duration=0.5, r_ds=0.2, half_width=0.04,
-                 offset=(0.0, 0.0), turn_first=False):
+def arc_schedule(
+    step,
+    nb_steps=20,
+    *,
+    step_duration=0.5,
+    r_ds=0.2,
+    half_width=0.04,
+    offset=(0.0, 0.0),
+    turn_first=False,
+):
     """Schedule of a torso moving by ``step = (dx [m], dy [m], dyaw [rad])`` per step in
     its own frame; the swing foot lands ``half_width`` beside the torso, at least
     ``2 half_width`` from the support foot. ``turn_first`` applies the yaw of a step
     before its translation. The first swing foot is on the side of the motion."""
     dx, dy, dyaw = step
-    feet = {Side.LEFT: Footstep(Side.LEFT, np.add(offset, [0.0, half_width])),
-            Side.RIGHT: Footstep(Side.RIGHT, np.add(offset, [0.0, -half_width]))}
+    feet = {
+        Side.LEFT: Footstep(Side.LEFT, np.add(offset, [0.0, half_width])),
+        Side.RIGHT: Footstep(Side.RIGHT, np.add(offset, [0.0, -half_width])),
+    }
     initial = dict(feet)
     side = Side.LEFT if dy > 0 or (dy == 0 and dyaw > 0) else Side.RIGHT
     torso, yaw, steps = np.array(offset, dtype=float), 0.0, []
@@ -31,12 +48,20 @@ def arc_schedule(step, nb_steps=20, *, step_duration=0.5, r_ds=0.2, half_width=0
         feet[side] = Footstep(side, support.to_world(local), yaw)
         steps.append(feet[side])
         side = side.other
-    plan = FootstepPlan(initial[Side.LEFT], initial[Side.RIGHT], steps, StepTiming(step_duration, r_ds))
+    plan = FootstepPlan(
+        initial[Side.LEFT], initial[Side.RIGHT], steps, StepTiming(step_duration, r_ds)
+    )
     return ContactSchedule(plan, FootGeometry())
 
 
 def velocity_schedule(velocity, nb_steps=20, *, step_duration=0.5, r_ds=0.2, half_width=0.04):
     """:func:`arc_schedule` for a torso velocity ``(vx [m/s], vy [m/s], yaw rate [rad/s])``."""
     step = tuple(step_duration * np.asarray(velocity, dtype=float))
-    return arc_schedule(step, nb_steps, step_duration=step_duration, r_ds=r_ds,
-                        half_width=half_width, turn_first=True)
+    return arc_schedule(
+        step,
+        nb_steps,
+        step_duration=step_duration,
+        r_ds=r_ds,
+        half_width=half_width,
+        turn_first=True,
+    )

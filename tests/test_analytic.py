@@ -2,13 +2,13 @@
 
 import numpy as np
 import pytest
+from plans import arc_schedule
 
 from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.gait.support_margins import support_margins
 from mpcwalk.generators import make_generator, rollout
 from mpcwalk.generators.analytic import AnalyticGenerator, closed_form_step
-from mpcwalk.metrics import support_margins
 from mpcwalk.models.lipm import LIPM
-from plans import arc_schedule
 
 T, Z_C, R_DS = 0.5, 0.23, 0.2  # paper M, Table 1
 OMEGA = LIPM(Z_C).omega
@@ -18,8 +18,6 @@ COMMANDS = {  # torso displacement per step (dx [m], dy [m], dyaw [rad]) at T = 
     "turning": (0.05, 0.0, np.deg2rad(10.0)),  # 0.1 m/s, 20 deg/s
     "sideways": (0.0, 0.05, 0.0),  # 0.1 m/s to the left
 }
-
-
 
 
 def random_steps(rng, n):
@@ -111,12 +109,15 @@ def test_no_double_support_is_the_limit_of_short_ones():
     assert np.all(np.isfinite(out.com))
 
 
-@pytest.mark.parametrize("args, match", [
-    ((0.0, 0.1, 0.2, 0.5, 0.3, 0.2, OMEGA), "t_b <= t_e"),
-    ((0.0, 0.1, 0.2, -0.5, 0.0, 0.0, OMEGA), "T > 0"),
-    ((0.0, 0.1, np.nan, 0.5, 0.05, 0.45, OMEGA), "non-finite"),
-    ((np.zeros(2), np.zeros(3), 0.0, 0.5, 0.05, 0.45, OMEGA), "same shape|one shape"),
-])
+@pytest.mark.parametrize(
+    "args, match",
+    [
+        ((0.0, 0.1, 0.2, 0.5, 0.3, 0.2, OMEGA), "t_b <= t_e"),
+        ((0.0, 0.1, 0.2, -0.5, 0.0, 0.0, OMEGA), "T > 0"),
+        ((0.0, 0.1, np.nan, 0.5, 0.05, 0.45, OMEGA), "non-finite"),
+        ((np.zeros(2), np.zeros(3), 0.0, 0.5, 0.05, 0.45, OMEGA), "same shape|one shape"),
+    ],
+)
 def test_bad_inputs_are_rejected(args, match):
     with pytest.raises(ConfigurationError, match=match):
         closed_form_step(*args)
@@ -184,12 +185,17 @@ def test_matches_literal_eq_11_to_18():
         k_d2 = (m_d2 / w) * np.sinh(w * (T - T_E))  # eq. 16
         C1 = (k_d2 - k_d1 * np.exp(-w * T)) / (np.exp(w * T) - np.exp(-w * T))  # eq. 17
         C2 = (k_d1 * np.exp(w * T) - k_d2) / (np.exp(w * T) - np.exp(-w * T))  # eq. 18
-        np.testing.assert_allclose([cf.C1, cf.C2, cf.k_d1, cf.k_d2], [C1, C2, k_d1, k_d2],
-                                   rtol=1e-12, atol=1e-15)
-        p = np.where(times < T_B, x_t0 + m_d1 * times,
-                     np.where(times < T_E, x_s, x_s + m_d2 * (times - T_E)))  # eq. 8
-        c2 = np.where(times < T_B, -(m_d1 / w) * np.sinh(w * (times - T_B)),
-                      np.where(times < T_E, 0.0, -(m_d2 / w) * np.sinh(w * (times - T_E))))  # eq. 13
+        np.testing.assert_allclose(
+            [cf.C1, cf.C2, cf.k_d1, cf.k_d2], [C1, C2, k_d1, k_d2], rtol=1e-12, atol=1e-15
+        )
+        p = np.where(
+            times < T_B, x_t0 + m_d1 * times, np.where(times < T_E, x_s, x_s + m_d2 * (times - T_E))
+        )  # eq. 8
+        c2 = np.where(
+            times < T_B,
+            -(m_d1 / w) * np.sinh(w * (times - T_B)),
+            np.where(times < T_E, 0.0, -(m_d2 / w) * np.sinh(w * (times - T_E))),
+        )  # eq. 13
         c = p + C1 * np.exp(w * times) + C2 * np.exp(-w * times) + c2  # eq. 11-12
         assert np.abs(cf.com(times[:, 0]) - c).max() < 1e-12
 

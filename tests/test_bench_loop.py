@@ -4,8 +4,9 @@ from mpcwalk.bench.loop import format_loop_table, run_loop_benchmark
 
 
 def test_loop_benchmark_reduced_run():
-    cases = run_loop_benchmark(walks=(("bioloid-like", "mpc", (0.1, 0.0, 0.0), 2, None),),
-                               progress=False)
+    cases = run_loop_benchmark(
+        walks=(("bioloid-like", "mpc", (0.1, 0.0, 0.0), 2, None),), progress=False
+    )
     (case,) = cases
     assert not case.fell and case.steps_completed == 3  # 2 steps and the closing one
     assert case.time_simulated_s > 3.0 and case.real_time_factor > 0.0

@@ -11,17 +11,23 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from mpcwalk.bench.backends import backend_settings, is_applicable, supports_warm_start
-from mpcwalk.bench.case_runner import CSV_COLUMNS, CaseRunner, SolverCase
-from mpcwalk.bench.in_loop import mujoco_walk_runner
-from mpcwalk.bench.problem_set import get_family, reference_walk, sample_problems
-from mpcwalk.bench.qpbenchmark_export import build_problem, export_test_set, load_problem
-from mpcwalk.bench.solver_bench import make_cases, run_solver_benchmark
-from mpcwalk.bench.solver_config import SolverBenchConfig
-from mpcwalk.bench.solver_results import (RESULTS_FILE, fit_exponent, read_results, select,
-                                          shifted_geometric_mean, shgeom_runtimes)
-from mpcwalk.bench.timed_pool import TimedPool
-from mpcwalk.bench.tolerances import select_levels, tolerance_levels
+from mpcwalk.bench.solvers.backends import backend_settings, is_applicable, supports_warm_start
+from mpcwalk.bench.solvers.case_runner import CSV_COLUMNS, CaseRunner, SolverCase
+from mpcwalk.bench.solvers.config import SolverBenchConfig
+from mpcwalk.bench.solvers.in_loop import mujoco_walk_runner
+from mpcwalk.bench.solvers.problem_set import get_family, reference_walk, sample_problems
+from mpcwalk.bench.solvers.qpbenchmark_export import build_problem, export_test_set, load_problem
+from mpcwalk.bench.solvers.results import (
+    RESULTS_FILE,
+    fit_exponent,
+    read_results,
+    select,
+    shgeom_runtimes,
+    shifted_geometric_mean,
+)
+from mpcwalk.bench.solvers.runner import make_cases, run_solver_benchmark
+from mpcwalk.bench.solvers.timed_pool import TimedPool
+from mpcwalk.bench.solvers.tolerances import select_levels, tolerance_levels
 from mpcwalk.exceptions import ConfigurationError
 
 BACKENDS = ("osqp-direct", "daqp", "proxqp")
@@ -37,18 +43,30 @@ def problems():
 def reduced_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("solvers")
     config = SolverBenchConfig(
-        families=("mpc", "static-qp"), walks=("turning",), nb_steps=4, nb_nominal=1, nb_pushed=1,
-        sweep_horizons=(16, 32, 64), sweep_nb_nominal=1, sweep_nb_pushed=0,
-        sweep_levels=("default",), levels=("default", "mid"), backends=BACKENDS, ticks=False,
-        qpbenchmark_solvers=("daqp", "proxqp"), export_max_horizon=32, loop_pushes=1,
-        loop_nb_steps=4, loop_backends_max_time=1e-3,
+        families=("mpc", "static-qp"),
+        walks=("turning",),
+        nb_steps=4,
+        nb_nominal=1,
+        nb_pushed=1,
+        sweep_horizons=(16, 32, 64),
+        sweep_nb_nominal=1,
+        sweep_nb_pushed=0,
+        sweep_levels=("default",),
+        levels=("default", "mid"),
+        backends=BACKENDS,
+        ticks=False,
+        qpbenchmark_solvers=("daqp", "proxqp"),
+        export_max_horizon=32,
+        loop_pushes=1,
+        loop_nb_steps=4,
+        loop_backends_max_time=1e-3,
     )
     summary = run_solver_benchmark(config, out, progress=False, command="pytest")
     return out, config, summary, read_results(out / RESULTS_FILE)
 
 
 def test_results_csv_has_one_row_per_case(reduced_run):
-    out, config, summary, rows = reduced_run
+    out, _config, summary, rows = reduced_run
     with gzip.open(out / RESULTS_FILE, "rt") as stream:
         assert tuple(next(csv.reader(stream))) == CSV_COLUMNS
     keys = [(r["problem"], r["formulation"], r["solver"], r["tolerance"], r["start"]) for r in rows]
@@ -67,10 +85,17 @@ def test_results_csv_has_one_row_per_case(reduced_run):
 
 def test_reduced_run_succeeds_on_every_problem(reduced_run):
     _, _, _, rows = reduced_run
-    failed = [(r["problem"], r["formulation"], r["solver"], r["tolerance"], r["start"],
-               r["status"]) for r in rows
-              if not r["success"] and not (r["solver"] == "osqp-direct" and r["start"] == "cold"
-                                           and r["formulation"] == "dense" and r["horizon"] == 64)]
+    failed = [
+        (r["problem"], r["formulation"], r["solver"], r["tolerance"], r["start"], r["status"])
+        for r in rows
+        if not r["success"]
+        and not (
+            r["solver"] == "osqp-direct"
+            and r["start"] == "cold"
+            and r["formulation"] == "dense"
+            and r["horizon"] == 64
+        )
+    ]
     assert failed == []
     for r in select(rows, tolerance="mid"):
         assert max(r["primal_residual"], r["dual_residual"], r["duality_gap"]) < 1e-6
@@ -80,9 +105,15 @@ def test_reduced_run_succeeds_on_every_problem(reduced_run):
 def test_report_has_the_tables_and_figures(reduced_run):
     out, _, _, _ = reduced_run
     report = (out / "report.md").read_text()
-    for heading in ("## Headline", "## Success rate per tolerance level",
-                    "## Runtime: shifted geometric mean", "## Runtime per family",
-                    "## Growth with the horizon", "## In the loop", "## qpbenchmark test set"):
+    for heading in (
+        "## Headline",
+        "## Success rate per tolerance level",
+        "## Runtime: shifted geometric mean",
+        "## Runtime per family",
+        "## Growth with the horizon",
+        "## In the loop",
+        "## qpbenchmark test set",
+    ):
         assert heading in report
     assert "| daqp | 100 | 100 |" in report
     assert "exponent N>=64" in report
@@ -105,8 +136,9 @@ def test_problems_are_the_qps_the_controller_solves(family):
     from mpcwalk.generators import make_generator
 
     ref = reference_walk(family, "turning", 4)
-    problem = sample_problems(ref, [get_family(family).parameters.horizon],
-                              nb_nominal=1, nb_pushed=0)[0]
+    problem = sample_problems(
+        ref, [get_family(family).parameters.horizon], nb_nominal=1, nb_pushed=0
+    )[0]
     fam = get_family(family)
     generator = make_generator(fam.generator, control_period=0.01, **fam.generator_options())
     generator.reset(problem.schedule())
@@ -140,7 +172,7 @@ def test_qpbenchmark_export_round_trips(problems, tmp_path):
 
 def test_walking_test_set_yields_the_exported_problems(problems, tmp_path):
     pytest.importorskip("qpbenchmark")
-    from mpcwalk.bench.walking_test_set import WalkingTestSet
+    from mpcwalk.bench.solvers.walking_test_set import WalkingTestSet
 
     names = export_test_set([(problems[0], "dense")], tmp_path)
     test_set = WalkingTestSet(tmp_path / "data", solvers=["daqp", "nonexistent"], time_limit=2.0)
@@ -160,8 +192,11 @@ def test_tolerance_levels_follow_qpbenchmark():
     assert not mid.is_success(True, 1e-7, 1e-7, 2e-6, 0.1)
     assert not mid.is_success(False, 0.0, 0.0, 0.0, 0.1)
     assert not mid.is_success(True, 0.0, 0.0, 0.0, 0.6)  # over the time limit
-    assert backend_settings("osqp-direct", mid) == {"time_limit": 0.5, "eps_abs": 1e-6,
-                                                    "eps_rel": 0.0}
+    assert backend_settings("osqp-direct", mid) == {
+        "time_limit": 0.5,
+        "eps_abs": 1e-6,
+        "eps_rel": 0.0,
+    }
     assert backend_settings("daqp", mid)["primal_tol"] == 1e-6
     assert not is_applicable("daqp", "sparse") and is_applicable("daqp", "dense")
     assert supports_warm_start("osqp-direct") and not supports_warm_start("daqp")
@@ -182,19 +217,26 @@ def test_shifted_geometric_mean_and_exponent_fit():
     assert shifted_geometric_mean([1.0, 1.0], 10.0) == pytest.approx(1.0)
     assert shifted_geometric_mean([0.0, 80.0], 1.0) == pytest.approx(math.sqrt(81.0) - 1.0)
     horizons = np.array([16, 32, 64, 320])
-    assert fit_exponent(horizons, 3e-6 * horizons ** 1.5) == pytest.approx(1.5)
+    assert fit_exponent(horizons, 3e-6 * horizons**1.5) == pytest.approx(1.5)
     assert math.isnan(fit_exponent([16, 32], [1.0, 2.0]))
-    rows = [dict(solver=s, tolerance="mid", runtime=t, found=f, timeout=False)
-            for s, t, f in (("a", 0.001, True), ("a", 0.002, True), ("b", 0.001, True),
-                            ("b", 0.5, False))]
+    rows = [
+        dict(solver=s, tolerance="mid", runtime=t, found=f, timeout=False)
+        for s, t, f in (
+            ("a", 0.001, True),
+            ("a", 0.002, True),
+            ("b", 0.001, True),
+            ("b", 0.5, False),
+        )
+    ]
     means = shgeom_runtimes(rows, "mid", time_limit=1.0)
     assert means["a"][0] == 1.0
     assert means["b"][1] == pytest.approx(math.sqrt(10.001 * 11.0) - 10.0)  # failure = limit
 
 
 def test_timeouts_are_recorded_and_their_group_skipped(problems):
-    config = SolverBenchConfig(levels=("mid",), starts=("cold",), formulations=("dense",),
-                               time_limit=1e-9)
+    config = SolverBenchConfig(
+        levels=("mid",), starts=("cold",), formulations=("dense",), time_limit=1e-9
+    )
     cases = make_cases([(p, "main") for p in problems] * 2, config, ["quadprog"])
     rows = TimedPool(1).run(cases, progress=False)
     assert [r["timeout"] for r in rows] == [True] * 4

@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from mpcwalk.compliance import ServoFeedforward
+from mpcwalk.control.servo_feedforward import ServoFeedforward
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.ik import IKTargets, WholeBodyIK
-from mpcwalk.robots import load_robot
+from mpcwalk.robot.loading import load_robot
 from mpcwalk.sim import Simulation
 
 

@@ -34,7 +34,9 @@ def test_steps_must_alternate():
     left = Footstep("left", [0, 0.05])
     right = Footstep("right", [0, -0.05])
     with pytest.raises(InfeasibleStep, match="alternate"):
-        FootstepPlan(left, right, [Footstep("right", [0.05, -0.05]), Footstep("right", [0.1, -0.05])])
+        FootstepPlan(
+            left, right, [Footstep("right", [0.05, -0.05]), Footstep("right", [0.1, -0.05])]
+        )
 
 
 def test_bad_side_is_named():
@@ -81,8 +83,12 @@ def test_zmp_reference_is_continuous_and_hits_waypoints():
     # Inside single support the reference sits on the support foot centre.
     for k in range(6):
         t_mid = sched.walk_start + k * 0.5 + 0.25
-        np.testing.assert_allclose(sched.zmp_reference(t_mid), sched.support_positions[k], atol=1e-12)
-        np.testing.assert_allclose(sched.zmp_reference(sched.walk_start + k * 0.5), sched.torso_waypoints[k], atol=1e-12)
+        np.testing.assert_allclose(
+            sched.zmp_reference(t_mid), sched.support_positions[k], atol=1e-12
+        )
+        np.testing.assert_allclose(
+            sched.zmp_reference(sched.walk_start + k * 0.5), sched.torso_waypoints[k], atol=1e-12
+        )
     np.testing.assert_allclose(p[-1], sched.torso_waypoints[-1], atol=1e-12)
 
 

@@ -4,9 +4,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from mpcwalk.compliance import ServoFeedforward
-from mpcwalk.controller import ControlOutput, WalkingController
-from mpcwalk.dcm_feedback import DcmFeedback, project_into_polygon, shrink_polygon
+from mpcwalk.control.controller import ControlOutput, WalkingController
+from mpcwalk.control.dcm_feedback import DcmFeedback, project_into_polygon, shrink_polygon
+from mpcwalk.control.servo_feedforward import ServoFeedforward
 from mpcwalk.exceptions import ConfigurationError, NoSolutionFound, NotReset
 from mpcwalk.footsteps import FootGeometry, Side, StepTiming
 from mpcwalk.gait.contact_schedule import ContactSchedule
@@ -15,8 +15,8 @@ from mpcwalk.generators.pattern_generator import PatternGenerator
 from mpcwalk.ik import IKTargets, WholeBodyIK
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.models.support_polygon import SupportPolygon
-from mpcwalk.robots import load_robot
-from mpcwalk.walk import plan_walk_footsteps
+from mpcwalk.robot.loading import load_robot
+from mpcwalk.walking.runner import plan_walk_footsteps
 
 _ROBOTS = {}
 
@@ -193,8 +193,16 @@ class FailingGenerator(PatternGenerator):
         out = self.inner.step(measured)
         if self.tick % self.fail_every == 0:
             solve = SolveInfo(False, "fake", "failed", fallback=True, consecutive_failures=1)
-            return GeneratorOutput(out.time, out.com, out.com_velocity, out.com_acceleration,
-                                   out.zmp, out.com_height, out.horizon, solve)
+            return GeneratorOutput(
+                out.time,
+                out.com,
+                out.com_velocity,
+                out.com_acceleration,
+                out.zmp,
+                out.com_height,
+                out.horizon,
+                solve,
+            )
         return out
 
 
@@ -249,16 +257,19 @@ def test_measured_com_is_anchored_to_the_planned_feet():
         def __init__(self, shift, turn):
             c, s = np.cos(turn), np.sin(turn)
             rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-            self.sole_positions = np.array([rotation @ left.position + shift,
-                                            rotation @ right.position + shift])
+            self.sole_positions = np.array(
+                [rotation @ left.position + shift, rotation @ right.position + shift]
+            )
             self.sole_yaws = np.array([turn, turn])
 
     planned_com = np.array([0.01, 0.003])
     for shift, turn in (([0.02, -0.01, 0.0], 0.0), ([0.0, 0.0, 0.0], 0.1)):
         measurement = Measurement(np.array(shift), turn)
         c, s = np.cos(turn), np.sin(turn)
-        measured = ComState(np.array([[c, -s], [s, c]]) @ planned_com + shift[:2],
-                            np.array([[c, -s], [s, c]]) @ [0.1, 0.0])
+        measured = ComState(
+            np.array([[c, -s], [s, c]]) @ planned_com + shift[:2],
+            np.array([[c, -s], [s, c]]) @ [0.1, 0.0],
+        )
         anchored = feedback.anchor(measured, measurement, 0.2, (0.5, 0.5))
         np.testing.assert_allclose(anchored.position, planned_com, atol=1e-12)
         np.testing.assert_allclose(anchored.velocity, [0.1, 0.0], atol=1e-12)
@@ -271,8 +282,9 @@ def test_project_into_polygon():
     np.testing.assert_allclose(project_into_polygon(square, [0.3, 0.6]), [0.3, 0.6])
     np.testing.assert_allclose(project_into_polygon(square, [2.0, 0.5]), [1.0, 0.5])
     np.testing.assert_allclose(project_into_polygon(square, [-1.0, -2.0]), [0.0, 0.0])
-    np.testing.assert_allclose(shrink_polygon(square, 0.1),
-                               [[0.1, 0.1], [0.9, 0.1], [0.9, 0.9], [0.1, 0.9]], atol=1e-15)
+    np.testing.assert_allclose(
+        shrink_polygon(square, 0.1), [[0.1, 0.1], [0.9, 0.1], [0.9, 0.9], [0.1, 0.9]], atol=1e-15
+    )
     triangle = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
     inner = shrink_polygon(triangle, 0.05)
     polygon = SupportPolygon.from_vertices(triangle)
@@ -291,7 +303,7 @@ def test_control_output_is_frozen():
 def test_generators_take_their_robot_options_from_the_preset():
     from mpcwalk.footsteps import LegLimits
     from mpcwalk.generators import generator_class
-    from mpcwalk.robots import load_robot
+    from mpcwalk.robot.loading import load_robot
 
     g1 = load_robot("g1", visual=False)  # [gait] mpc_sampling_period 0.05, mpc_horizon 40
     assert generator_class("mpc").robot_options(g1) == {"sampling_period": 0.05, "horizon": 40}
@@ -301,7 +313,6 @@ def test_generators_take_their_robot_options_from_the_preset():
     assert generator_class("static-qp").robot_options(g1) == {}
     assert generator_class("analytic").robot_options(g1) == {}
     schedule = make_schedule(g1, nb_steps=1)
-    controller = WalkingController.for_robot(g1, "mpc", schedule,
-                                             generator_options={"horizon": 20})
+    controller = WalkingController.for_robot(g1, "mpc", schedule, generator_options={"horizon": 20})
     assert controller.generator.parameters.horizon == 20  # the caller's option wins
     assert controller.generator.parameters.sampling_period == 0.05  # the preset's

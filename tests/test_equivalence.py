@@ -20,23 +20,40 @@ import numpy as np
 import pytest
 
 from mpcwalk import (
-    AnalyticGenerator, ContactSchedule, PreviewGenerator, VelocityCommand, VelocityPlanner, rollout,
+    AnalyticGenerator,
+    ContactSchedule,
+    PreviewGenerator,
+    VelocityCommand,
+    VelocityPlanner,
+    rollout,
 )
 from mpcwalk.generators.mpc import MpcGenerator
 
 PERIOD = 0.005  # [s]
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def walks():
     plan = VelocityPlanner().plan(VelocityCommand(0.1, 0.0, 0.0), 10)
     schedule = ContactSchedule(plan)
-    mpc = MpcGenerator(solver="kkt", control_period=PERIOD, sampling_period=PERIOD, horizon=320,
-                       constrained=False, zmp_weight=1.0, jerk_weight=1e-6, velocity_weight=0.0)
+    mpc = MpcGenerator(
+        solver="kkt",
+        control_period=PERIOD,
+        sampling_period=PERIOD,
+        horizon=320,
+        constrained=False,
+        zmp_weight=1.0,
+        jerk_weight=1e-6,
+        velocity_weight=0.0,
+    )
     return schedule, {
         "mpc": rollout(mpc, schedule),
-        "preview": rollout(PreviewGenerator(control_period=PERIOD, integral_action=False,
-                                            zmp_weight=1.0, jerk_weight=1e-6), schedule),
+        "preview": rollout(
+            PreviewGenerator(
+                control_period=PERIOD, integral_action=False, zmp_weight=1.0, jerk_weight=1e-6
+            ),
+            schedule,
+        ),
         "preview-integral": rollout(PreviewGenerator(control_period=PERIOD), schedule),
         "analytic": rollout(AnalyticGenerator(control_period=PERIOD), schedule),
     }

@@ -6,10 +6,17 @@ import functools
 import numpy as np
 import pytest
 
-from mpcwalk import ContactSchedule, StepTiming, VelocityCommand, VelocityPlanner, make_generator, rollout
+from mpcwalk import (
+    ContactSchedule,
+    StepTiming,
+    VelocityCommand,
+    VelocityPlanner,
+    make_generator,
+    rollout,
+)
 from mpcwalk.exceptions import GeneratorNotFound
+from mpcwalk.gait.support_margins import support_margins
 from mpcwalk.generators import generator_names
-from mpcwalk.metrics import support_margins
 
 #: Paper M's commands; sideways at the planner's lateral limit region.
 COMMANDS = {
@@ -22,19 +29,27 @@ SLOW = StepTiming(step_duration=2.0, double_support_ratio=0.5)  # static gaits
 
 #: Smallest margins measured (ZMP for dynamic generators, CoM for static ones), [m].
 MEASURED = {
-    ("analytic", "straight"): 0.030, ("analytic", "turning"): 0.030, ("analytic", "sideways"): 0.030,
-    ("preview", "straight"): 0.021, ("preview", "turning"): 0.021, ("preview", "sideways"): 0.021,
-    ("mpc", "straight"): 0.011, ("mpc", "turning"): 0.010, ("mpc", "sideways"): 0.0057,
+    ("analytic", "straight"): 0.030,
+    ("analytic", "turning"): 0.030,
+    ("analytic", "sideways"): 0.030,
+    ("preview", "straight"): 0.021,
+    ("preview", "turning"): 0.021,
+    ("preview", "sideways"): 0.021,
+    ("mpc", "straight"): 0.011,
+    ("mpc", "turning"): 0.010,
+    ("mpc", "sideways"): 0.0057,
 }
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def planned(generator, command):
     static = generator in ("static", "static-qp")
     timing = SLOW if static else FAST
     scale = FAST.step_duration / timing.step_duration  # same step lengths
     c = COMMANDS[command]
-    plan = VelocityPlanner(timing=timing).plan(VelocityCommand(c.vx * scale, c.vy * scale, c.vyaw * scale), 20)
+    plan = VelocityPlanner(timing=timing).plan(
+        VelocityCommand(c.vx * scale, c.vy * scale, c.vyaw * scale), 20
+    )
     schedule = ContactSchedule(plan)
     traj = rollout(make_generator(generator), schedule)
     return schedule, traj
@@ -67,6 +82,8 @@ def test_static_generators_keep_the_com_inside(generator, command):
 
 def test_all_names_are_registered():
     assert generator_names() == ["analytic", "static", "preview", "mpc", "static-qp", "mpc-steps"]
-    with pytest.raises(GeneratorNotFound,
-                       match="choose one of analytic, static, preview, mpc, static-qp, mpc-steps"):
+    with pytest.raises(
+        GeneratorNotFound,
+        match="choose one of analytic, static, preview, mpc, static-qp, mpc-steps",
+    ):
         make_generator("zmp-magic")

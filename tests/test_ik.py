@@ -13,7 +13,7 @@ from mpcwalk.ik import (
     WholeBodyIK,
     update_kinematics,
 )
-from mpcwalk.robots import FrameNotFound, load_robot
+from mpcwalk.robot.loading import FrameNotFound, load_robot
 
 ROBOTS = ("bioloid-like", "atlas-like", "g1")
 _CACHE = {}
@@ -101,8 +101,10 @@ def test_feedforward_matches_moving_target():
     feedforward = task.compute_feedforward(model, data, q)
     errors = []
     for sign in (1.0, -1.0):
-        moved = pin.SE3(pin.exp3(sign * step * velocity[3:]) @ target.rotation,
-                        target.translation + sign * step * velocity[:3])
+        moved = pin.SE3(
+            pin.exp3(sign * step * velocity[3:]) @ target.rotation,
+            target.translation + sign * step * velocity[:3],
+        )
         task.set_target(moved)
         errors.append(task.compute_error(model, data, q))
     # the error shrinks at the feed-forward rate when the target moves
@@ -140,8 +142,9 @@ def test_target_beyond_reach_saturates_at_the_knee_limit():
     ik = WholeBodyIK(robot)
     start = IKTargets.from_configuration(robot, robot.q0)
     # CoM 3 cm above what straight legs reach (0.238 m standing straight)
-    high = IKTargets(start.com + [0.0, 0.0, 0.04], start.left_sole, start.right_sole,
-                     start.torso_rotation)
+    high = IKTargets(
+        start.com + [0.0, 0.0, 0.04], start.left_sole, start.right_sole, start.torso_rotation
+    )
     lower, upper = robot.model.lowerPositionLimit[7:], robot.model.upperPositionLimit[7:]
     result = ik.solve_pose(robot.q0, high, max_iterations=100)
     assert not result.success and result.task_errors.com > 1e-3
@@ -166,8 +169,9 @@ def test_stretched_knee_target_keeps_steps_bounded():
         for joint, angle in (("hip_pitch", -0.01), ("knee", 0.02), ("foot_pitch", -0.01)):
             q[robot.model.idx_qs[robot.model.getJointId(f"{side}_{joint}")]] = angle
     start = IKTargets.from_configuration(robot, q)
-    beyond = IKTargets(start.com + [0.0, 0.0, 0.02], start.left_sole, start.right_sole,
-                       start.torso_rotation)
+    beyond = IKTargets(
+        start.com + [0.0, 0.0, 0.02], start.left_sole, start.right_sole, start.torso_rotation
+    )
 
     def largest_step(**options):
         ik = WholeBodyIK(robot, velocity_limit=np.inf, damping=1e-12, **options)
@@ -212,9 +216,14 @@ def test_loop_tracks_a_moving_target_with_bounded_lag(name):
             else:  # references of now, with (or without) their velocities
                 start, com, com_v, right, right_v = _sway(robot, t)
                 with_velocity = mode == "feedforward"
-                targets = IKTargets(com, start.left_sole, right, start.torso_rotation,
-                                    com_velocity=com_v if with_velocity else None,
-                                    right_sole_velocity=right_v if with_velocity else None)
+                targets = IKTargets(
+                    com,
+                    start.left_sole,
+                    right,
+                    start.torso_rotation,
+                    com_velocity=com_v if with_velocity else None,
+                    right_sole_velocity=right_v if with_velocity else None,
+                )
             result = ik.solve(q, targets, dt)
             assert result.success
             q = result.q_next
@@ -233,18 +242,24 @@ def test_unconstrained_and_qp_paths_agree_and_solvers_agree():
     for elbow in ("left_elbow", "right_elbow"):  # away from their limit: no active bound
         q[robot.model.idx_qs[robot.model.getJointId(elbow)]] = -0.5
     start = IKTargets.from_configuration(robot, q)
-    moved = IKTargets(start.com + [0.001, 0.001, -0.001], start.left_sole, start.right_sole,
-                      pin.exp3(np.array([0.0, 0.0, 0.01])))
+    moved = IKTargets(
+        start.com + [0.001, 0.001, -0.001],
+        start.left_sole,
+        start.right_sole,
+        pin.exp3(np.array([0.0, 0.0, 0.01])),
+    )
     auto = WholeBodyIK(robot, posture_reference=q).solve(q, moved, 0.01)
     assert auto.status == "unconstrained"
     for solver in ("daqp", "quadprog"):
-        forced = WholeBodyIK(robot, solver=solver, qp_only_when_needed=False,
-                             posture_reference=q).solve(q, moved, 0.01)
+        forced = WholeBodyIK(
+            robot, solver=solver, qp_only_when_needed=False, posture_reference=q
+        ).solve(q, moved, 0.01)
         assert forced.status == "qp"
         assert np.abs(forced.v - auto.v).max() < 1e-6
     # an active bound: both QP back-ends give the same clipped step
-    fast = IKTargets(start.com + [0.0, 0.0, -0.03], start.left_sole, start.right_sole,
-                     start.torso_rotation)
+    fast = IKTargets(
+        start.com + [0.0, 0.0, -0.03], start.left_sole, start.right_sole, start.torso_rotation
+    )
     steps = [WholeBodyIK(robot, solver=s).solve(robot.q0, fast, 0.01) for s in ("daqp", "quadprog")]
     assert steps[0].status == "qp" and steps[0].qp_solves == 1
     assert np.abs(np.abs(steps[0].v[6:]).max() - 6.0) < 1e-9  # at the velocity limit
@@ -255,14 +270,16 @@ def test_failed_qp_falls_back_without_raising(monkeypatch):
     robot = get_robot("bioloid-like")
     ik = WholeBodyIK(robot)
     start = IKTargets.from_configuration(robot, robot.q0)
-    fast = IKTargets(start.com + [0.0, 0.0, -0.03], start.left_sole, start.right_sole,
-                     start.torso_rotation)
+    fast = IKTargets(
+        start.com + [0.0, 0.0, -0.03], start.left_sole, start.right_sole, start.torso_rotation
+    )
     monkeypatch.setattr(ik, "_solve_qp", lambda *args: None)
     result = ik.solve(robot.q0, fast, 0.01)
     assert not result.success and result.status == "fallback"
     assert np.all(np.abs(result.v[6:]) <= ik.velocity_limit + 1e-12)
-    monkeypatch.setattr("mpcwalk.ik.whole_body_ik.lapack.dposv",
-                        lambda H, g: (H, np.full(len(g), np.nan), 0))
+    monkeypatch.setattr(
+        "mpcwalk.ik.whole_body_ik.lapack.dposv", lambda H, g: (H, np.full(len(g), np.nan), 0)
+    )
     kept = ik.solve(robot.q0, fast, 0.01)
     assert kept.status == "kept" and np.array_equal(kept.q_next, robot.q0)
     assert np.all(kept.v == 0.0)
@@ -288,8 +305,13 @@ def test_bad_inputs_raise_named_errors():
     with pytest.raises(ConfigurationError, match="not a rotation"):
         IKTargets(np.zeros(3), start.left_sole, start.right_sole, 2.0 * np.eye(3))
     with pytest.raises(ConfigurationError, match="left_sole_velocity"):
-        IKTargets(np.zeros(3), start.left_sole, start.right_sole, np.eye(3),
-                  left_sole_velocity=np.zeros(3))
+        IKTargets(
+            np.zeros(3),
+            start.left_sole,
+            start.right_sole,
+            np.eye(3),
+            left_sole_velocity=np.zeros(3),
+        )
     ik = WholeBodyIK(robot)
     with pytest.raises(ConfigurationError, match="q must be 25 finite numbers"):
         ik.solve(robot.q0[:-1], start, 0.01)
@@ -298,8 +320,9 @@ def test_bad_inputs_raise_named_errors():
     with pytest.raises(ConfigurationError, match="IKTargets"):
         ik.solve(robot.q0, {"com": np.zeros(3)}, 0.01)
     # 4x4 arrays are accepted for the soles
-    as_matrix = IKTargets(start.com, start.left_sole.homogeneous, start.right_sole.homogeneous,
-                          start.torso_rotation)
+    as_matrix = IKTargets(
+        start.com, start.left_sole.homogeneous, start.right_sole.homogeneous, start.torso_rotation
+    )
     assert np.allclose(as_matrix.left_sole.homogeneous, start.left_sole.homogeneous)
 
 
@@ -311,14 +334,19 @@ def test_from_gait_builds_flat_feet_and_yaw():
     plan = FootstepPlan(
         Footstep(Side.LEFT, np.array([0.0, 0.04, 0.0]), 0.0),
         Footstep(Side.RIGHT, np.array([0.0, -0.04, 0.0]), 0.0),
-        [Footstep(Side.RIGHT, np.array([0.05, -0.04, 0.0]), 0.2)], StepTiming(),
+        [Footstep(Side.RIGHT, np.array([0.05, -0.04, 0.0]), 0.2)],
+        StepTiming(),
     )
     trajectory = SwingFootTrajectory(ContactSchedule(plan, FootGeometry()))
     t = 1.25  # middle of the first step's single support
     feet = trajectory.foot_poses(t)
     assert not feet.right.in_contact and feet.right.position[2] > 0.03  # swinging
-    targets = IKTargets.from_gait(np.array([0.0, 0.0, 0.23]), feet, trajectory.torso_yaw(t),
-                                  torso_yaw_rate=trajectory.torso_yaw_rate(t))
+    targets = IKTargets.from_gait(
+        np.array([0.0, 0.0, 0.23]),
+        feet,
+        trajectory.torso_yaw(t),
+        torso_yaw_rate=trajectory.torso_yaw_rate(t),
+    )
     assert np.allclose(targets.right_sole.translation, feet.right.position)
     assert np.allclose(targets.right_sole.rotation, pin.exp3(np.array([0.0, 0.0, feet.right.yaw])))
     assert np.allclose(targets.right_sole_velocity[:3], feet.right.linear_velocity)
@@ -331,11 +359,12 @@ def test_from_gait_builds_flat_feet_and_yaw():
 def test_benchmark_runs_ours_and_pink_on_the_same_problem():
     import argparse
 
-    from mpcwalk.bench.ik_bench import add_ik_bench_parser, format_ik_table, run_ik_benchmark
+    from mpcwalk.bench.ik import add_ik_bench_parser, format_ik_table, run_ik_benchmark
 
     pytest.importorskip("pink")
-    results = run_ik_benchmark(["bioloid-like"], duration=0.3, pink_solvers=("daqp",),
-                               progress=False)
+    results = run_ik_benchmark(
+        ["bioloid-like"], duration=0.3, pink_solvers=("daqp",), progress=False
+    )
     labels = [r.label for r in results]
     assert labels == ["ours (QP when a bound is active)", "ours (QP every tick)", "pink (daqp)"]
     ours, _, pink = results

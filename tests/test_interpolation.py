@@ -73,15 +73,28 @@ def test_v_is_c1_at_the_corners(corner):
 
 def test_analytic_derivatives_match_finite_differences():
     # Points of single and double support, each farther than EPS from a corner.
-    phi = np.concatenate([np.linspace(0.0, PHI_B - 0.01, 5), np.linspace(PHI_B + 0.01, PHI_E - 0.01, 41),
-                          np.linspace(PHI_E + 0.01, 1.0, 5)])
+    phi = np.concatenate(
+        [
+            np.linspace(0.0, PHI_B - 0.01, 5),
+            np.linspace(PHI_B + 0.01, PHI_E - 0.01, 41),
+            np.linspace(PHI_E + 0.01, 1.0, 5),
+        ]
+    )
     # Central-difference error <= max|f'''| eps^2 / 6.
     tol_h = 0.5 * (np.pi / WIDTH) ** 3 * EPS**2 / 6.0 + ROUNDOFF
     tol_v = 0.5 * (2.0 * np.pi / WIDTH) ** 3 * EPS**2 / 6.0 + ROUNDOFF
-    np.testing.assert_allclose(step_interpolation_derivative(phi, PHI_B, PHI_E),
-                               central_difference(h, phi), rtol=0.0, atol=tol_h)
-    np.testing.assert_allclose(swing_height_profile_derivative(phi, PHI_B, PHI_E),
-                               central_difference(v, phi), rtol=0.0, atol=tol_v)
+    np.testing.assert_allclose(
+        step_interpolation_derivative(phi, PHI_B, PHI_E),
+        central_difference(h, phi),
+        rtol=0.0,
+        atol=tol_h,
+    )
+    np.testing.assert_allclose(
+        swing_height_profile_derivative(phi, PHI_B, PHI_E),
+        central_difference(v, phi),
+        rtol=0.0,
+        atol=tol_v,
+    )
 
 
 def test_time_derivative_scales_with_step_duration():
@@ -89,18 +102,24 @@ def test_time_derivative_scales_with_step_duration():
     T = 0.5  # [s]
     np.testing.assert_allclose(
         step_interpolation_derivative(phi, PHI_B, PHI_E, step_duration=T),
-        step_interpolation_derivative(phi, PHI_B, PHI_E) / T, rtol=1e-15)
+        step_interpolation_derivative(phi, PHI_B, PHI_E) / T,
+        rtol=1e-15,
+    )
     np.testing.assert_allclose(
         swing_height_profile_derivative(phi, PHI_B, PHI_E, step_duration=T),
-        swing_height_profile_derivative(phi, PHI_B, PHI_E) / T, rtol=1e-15)
+        swing_height_profile_derivative(phi, PHI_B, PHI_E) / T,
+        rtol=1e-15,
+    )
     # Peak rates: pi / (2 w T) for h at mid single support, pi / (w T) for v
     # at a quarter and three quarters of it.
     mid = 0.5 * (PHI_B + PHI_E)
     assert step_interpolation_derivative(mid, PHI_B, PHI_E, step_duration=T) == pytest.approx(
-        np.pi / (2.0 * WIDTH * T), rel=1e-14)
+        np.pi / (2.0 * WIDTH * T), rel=1e-14
+    )
     quarter = PHI_B + 0.25 * WIDTH
     assert swing_height_profile_derivative(quarter, PHI_B, PHI_E, step_duration=T) == pytest.approx(
-        np.pi / (WIDTH * T), rel=1e-14)
+        np.pi / (WIDTH * T), rel=1e-14
+    )
 
 
 def test_shapes_scalars_and_no_double_support():

@@ -40,14 +40,17 @@ def test_quintic_is_symmetric_with_known_peak():
 def _quintic_oracle(q0, q1, qd0, qd1):
     """Quintic coefficients (highest power first) from the six boundary
     conditions, solved as a linear system independently of jtraj."""
-    rows = np.array([
-        [0, 0, 0, 0, 0, 1],  # q(0)
-        [1, 1, 1, 1, 1, 1],  # q(1)
-        [0, 0, 0, 0, 1, 0],  # q'(0)
-        [5, 4, 3, 2, 1, 0],  # q'(1)
-        [0, 0, 0, 2, 0, 0],  # q''(0)
-        [20, 12, 6, 2, 0, 0],  # q''(1)
-    ], dtype=float)
+    rows = np.array(
+        [
+            [0, 0, 0, 0, 0, 1],  # q(0)
+            [1, 1, 1, 1, 1, 1],  # q(1)
+            [0, 0, 0, 0, 1, 0],  # q'(0)
+            [5, 4, 3, 2, 1, 0],  # q'(1)
+            [0, 0, 0, 2, 0, 0],  # q''(0)
+            [20, 12, 6, 2, 0, 0],  # q''(1)
+        ],
+        dtype=float,
+    )
     return np.linalg.solve(rows, [q0, q1, qd0, qd1, 0.0, 0.0])
 
 
@@ -92,7 +95,9 @@ def test_trapezoidal_profile(fraction):
     cruise = (traj.s >= fraction) & (traj.s <= 1.0 - fraction)
     np.testing.assert_allclose(traj.qd[cruise], np.tile(peak, (cruise.sum(), 1)), rtol=1e-12)
     accelerating = traj.s < fraction
-    np.testing.assert_allclose(traj.qdd[accelerating], np.tile(peak / fraction, (accelerating.sum(), 1)))
+    np.testing.assert_allclose(
+        traj.qdd[accelerating], np.tile(peak / fraction, (accelerating.sum(), 1))
+    )
     np.testing.assert_allclose(traj.q + traj.q[::-1], np.tile(Q0 + Q1, (n, 1)), atol=1e-14)
     np.testing.assert_allclose(traj.qd, traj.qd[::-1], atol=1e-12)
     # Position and velocity agree: central differences, q'' bounded by peak / fraction.
@@ -126,7 +131,11 @@ def test_results_are_read_only():
         ((Q0, "abc", 5), {}, "number or a 1-D array"),
         ((Q0, Q1, 5), {"profile": "cubic"}, "quintic, trapezoidal"),
         ((Q0, Q1, 5), {"qd0": [1.0, 0.0]}, "shape of q0"),
-        ((Q0, Q1, 5), {"profile": "trapezoidal", "qd1": [1.0, 0.0, 0.0]}, "starts and ends at rest"),
+        (
+            (Q0, Q1, 5),
+            {"profile": "trapezoidal", "qd1": [1.0, 0.0, 0.0]},
+            "starts and ends at rest",
+        ),
         ((Q0, Q1, 5), {"profile": "trapezoidal", "acceleration_fraction": 0.6}, r"\(0, 0.5\]"),
         ((Q0, Q1, 5), {"profile": "trapezoidal", "acceleration_fraction": 0.0}, r"\(0, 0.5\]"),
     ],

@@ -8,7 +8,7 @@ from mpcwalk.exceptions import ConfigurationError, MpcwalkError
 from mpcwalk.footsteps.footstep import Side
 from mpcwalk.ik import IKTargets, WholeBodyIK
 from mpcwalk.ik.leg_ik import AnalyticLegIK, LegUnreachable
-from mpcwalk.robots import load_robot
+from mpcwalk.robot.loading import load_robot
 
 
 @pytest.fixture(scope="module")
@@ -57,8 +57,11 @@ def test_forward_kinematics_of_the_solution_reproduces_random_targets(robot, leg
         left, right = robot.compute_sole_placements(q)
         solution = leg_ik.solve(pin.XYZQUATToSE3(q[:7]), left, right, q_reference=q)
         left_fk, right_fk = robot.compute_sole_placements(solution)
-        worst_pose = max(worst_pose, np.abs(left_fk.homogeneous - left.homogeneous).max(),
-                         np.abs(right_fk.homogeneous - right.homogeneous).max())
+        worst_pose = max(
+            worst_pose,
+            np.abs(left_fk.homogeneous - left.homogeneous).max(),
+            np.abs(right_fk.homogeneous - right.homogeneous).max(),
+        )
         worst_angle = max(worst_angle, np.abs(solution[7:] - q[7:]).max())
     assert worst_pose < 1e-9
     assert worst_angle < 1e-9  # the solution is unique on the bent-knee branch
@@ -68,10 +71,15 @@ def test_agrees_with_the_whole_body_ik(robot, leg_ik):
     """WholeBodyIK.solve_pose on a swing-foot target; the analytic IK from the base pose it
     found gives the same leg angles."""
     start = IKTargets.from_configuration(robot, robot.q0)
-    swing = pin.SE3(pin.exp3(np.array([0.0, 0.0, 0.2])),
-                    start.right_sole.translation + [0.03, -0.01, 0.025])
-    targets = IKTargets(start.com + [0.0, 0.025, -0.005], start.left_sole, swing,
-                        pin.exp3(np.array([0.0, 0.0, 0.1])))
+    swing = pin.SE3(
+        pin.exp3(np.array([0.0, 0.0, 0.2])), start.right_sole.translation + [0.03, -0.01, 0.025]
+    )
+    targets = IKTargets(
+        start.com + [0.0, 0.025, -0.005],
+        start.left_sole,
+        swing,
+        pin.exp3(np.array([0.0, 0.0, 0.1])),
+    )
     result = WholeBodyIK(robot).solve_pose(robot.q0, targets)
     assert result.success
     base = pin.XYZQUATToSE3(result.q_next[:7])
@@ -98,10 +106,13 @@ def test_unreachable_target_names_the_distance_and_the_leg_length(robot, leg_ik)
         leg_ik.solve_leg("middle", pin.SE3.Identity())
 
 
-@pytest.mark.parametrize("name, reason", [
-    ("g1", "expected z, x, y, y, y, x"),
-    ("atlas-like", "do not cross at one hip centre"),
-])
+@pytest.mark.parametrize(
+    "name, reason",
+    [
+        ("g1", "expected z, x, y, y, y, x"),
+        ("atlas-like", "do not cross at one hip centre"),
+    ],
+)
 def test_other_leg_structures_are_refused(name, reason):
     with pytest.raises(ConfigurationError, match=reason):
         AnalyticLegIK(load_robot(name, visual=False))

@@ -11,8 +11,16 @@ from scipy.spatial.transform import Rotation
 from mpcwalk.exceptions import ConfigurationError, FootstepFileError
 from mpcwalk.footsteps.footstep import Footstep, Side, wrap_angle
 from mpcwalk.footsteps.mdat import (
-    MDAT_FIELDS, PathWaypoint, parse_mdat, path_targets, plan_from_path, quaternion_to_yaw, read_mdat,
-    write_mdat, yaw_to_quaternion)
+    MDAT_FIELDS,
+    PathWaypoint,
+    parse_mdat,
+    path_targets,
+    plan_from_path,
+    quaternion_to_yaw,
+    read_mdat,
+    write_mdat,
+    yaw_to_quaternion,
+)
 from mpcwalk.footsteps.reachability import ATLAS_REACHABILITY
 
 PAPER_A = Path(__file__).resolve().parent.parent / "experiments" / "paper_a"
@@ -20,13 +28,17 @@ GOOD_LINE = "0 0.12 0 1 0 0 0 0 -0.12 0 1 0 0 0"
 
 
 def waypoint(xl, yl, yawl, xr, yr, yawr):
-    return PathWaypoint(Footstep(Side.LEFT, [xl, yl, 0.0], yawl), Footstep(Side.RIGHT, [xr, yr, 0.0], yawr))
+    return PathWaypoint(
+        Footstep(Side.LEFT, [xl, yl, 0.0], yawl), Footstep(Side.RIGHT, [xr, yr, 0.0], yawr)
+    )
 
 
 def test_parse_comments_blank_lines_commas_and_quaternions():
     q = yaw_to_quaternion(-math.pi / 2)
-    text = (f"# a path\n\n{GOOD_LINE}   # initial stance\n"
-            f"0.1, 0.12, 0.0, {q[0]!r}, 0, 0, {q[3]!r}, 0, -0.12, 0, 1, 0, 0, 0\n")
+    text = (
+        f"# a path\n\n{GOOD_LINE}   # initial stance\n"
+        f"0.1, 0.12, 0.0, {q[0]!r}, 0, 0, {q[3]!r}, 0, -0.12, 0, 1, 0, 0, 0\n"
+    )
     waypoints = parse_mdat(text)
     assert [w.line for w in waypoints] == [3, 4]
     np.testing.assert_array_equal(waypoints[1].left.position, [0.1, 0.12, 0.0])
@@ -41,14 +53,20 @@ def test_quaternion_to_yaw_matches_scipy():
         rotation = Rotation.from_euler("ZYX", [yaw, pitch, roll])
         x, y, z, w = rotation.as_quat()  # scipy: scalar last
         expected = rotation.as_euler("ZYX")[0]
-        assert float(wrap_angle(quaternion_to_yaw(w, x, y, z) - expected)) == pytest.approx(0.0, abs=1e-12)
+        assert float(wrap_angle(quaternion_to_yaw(w, x, y, z) - expected)) == pytest.approx(
+            0.0, abs=1e-12
+        )
 
 
 def test_write_read_round_trip_is_exact(tmp_path):
     rng = np.random.default_rng(1)
-    waypoints = [PathWaypoint(Footstep(Side.LEFT, rng.uniform(-5, 5, 3), rng.uniform(-math.pi, math.pi)),
-                              Footstep(Side.RIGHT, rng.uniform(-5, 5, 3), rng.uniform(-math.pi, math.pi)))
-                 for _ in range(30)]
+    waypoints = [
+        PathWaypoint(
+            Footstep(Side.LEFT, rng.uniform(-5, 5, 3), rng.uniform(-math.pi, math.pi)),
+            Footstep(Side.RIGHT, rng.uniform(-5, 5, 3), rng.uniform(-math.pi, math.pi)),
+        )
+        for _ in range(30)
+    ]
     path = tmp_path / "random.mdat"
     write_mdat(path, waypoints, header="random waypoints\nsecond line")
     assert path.read_text().startswith("# random waypoints\n# second line\n# xlf ylf")
@@ -57,18 +75,37 @@ def test_write_read_round_trip_is_exact(tmp_path):
         assert len(back) == len(waypoints)
         for a, b in zip(waypoints, back):
             for side in Side:
-                np.testing.assert_allclose(b.foot(side).position, a.foot(side).position, rtol=0, atol=1e-12)
-                assert float(wrap_angle(b.foot(side).yaw - a.foot(side).yaw)) == pytest.approx(0.0, abs=1e-12)
+                np.testing.assert_allclose(
+                    b.foot(side).position, a.foot(side).position, rtol=0, atol=1e-12
+                )
+                assert float(wrap_angle(b.foot(side).yaw - a.foot(side).yaw)) == pytest.approx(
+                    0.0, abs=1e-12
+                )
 
 
-@pytest.mark.parametrize("line, field, pattern", [
-    (GOOD_LINE.rsplit(" ", 1)[0], "qzrf", r"expected 14 numbers \(xlf ylf zlf .* qzrf\), got 13"),
-    (GOOD_LINE + " 0", None, r"expected 14 numbers .*, got 15"),
-    (GOOD_LINE.replace(" 1 0 0 0", " one 0 0 0", 2).replace("one", "1", 1), "qwrf", r"'one' is not a number"),
-    (GOOD_LINE.replace("0.12", "nan", 1), "ylf", r"'nan' is not a finite number"),
-    (GOOD_LINE.replace("-0.12", "-inf"), "yrf", r"'-inf' is not a finite number"),
-    (GOOD_LINE.replace(" 1 0 0 0", " 1.2 0 0 0", 1), "qwlf", r"norm 1\.2, but a unit quaternion is expected"),
-])
+@pytest.mark.parametrize(
+    "line, field, pattern",
+    [
+        (
+            GOOD_LINE.rsplit(" ", 1)[0],
+            "qzrf",
+            r"expected 14 numbers \(xlf ylf zlf .* qzrf\), got 13",
+        ),
+        (GOOD_LINE + " 0", None, r"expected 14 numbers .*, got 15"),
+        (
+            GOOD_LINE.replace(" 1 0 0 0", " one 0 0 0", 2).replace("one", "1", 1),
+            "qwrf",
+            r"'one' is not a number",
+        ),
+        (GOOD_LINE.replace("0.12", "nan", 1), "ylf", r"'nan' is not a finite number"),
+        (GOOD_LINE.replace("-0.12", "-inf"), "yrf", r"'-inf' is not a finite number"),
+        (
+            GOOD_LINE.replace(" 1 0 0 0", " 1.2 0 0 0", 1),
+            "qwlf",
+            r"norm 1\.2, but a unit quaternion is expected",
+        ),
+    ],
+)
 def test_malformed_lines_name_file_line_and_field(line, field, pattern):
     text = f"# header\n{GOOD_LINE}\n{line}\n"
     with pytest.raises(FootstepFileError, match=pattern) as info:
@@ -109,11 +146,21 @@ def test_path_targets_alternate_and_skip_unchanged_waypoints():
     ]
     targets = path_targets(waypoints)
     sides = [t.footstep.side for t in targets]
-    assert sides == [Side.RIGHT, Side.LEFT, Side.RIGHT, Side.LEFT, Side.RIGHT, Side.LEFT, Side.RIGHT]
+    assert sides == [
+        Side.RIGHT,
+        Side.LEFT,
+        Side.RIGHT,
+        Side.LEFT,
+        Side.RIGHT,
+        Side.LEFT,
+        Side.RIGHT,
+    ]
     assert [t.waypoint_index for t in targets] == [2, 3, 4, 5, 5, 6, 6]
     np.testing.assert_allclose(targets[5].footstep.xy, [0.8, 0.12])  # in place
     with_in_place = path_targets(waypoints, steps_in_place=True)
-    assert len(with_in_place) == 8 and with_in_place[0].footstep.side is Side.LEFT  # keeps alternation
+    assert (
+        len(with_in_place) == 8 and with_in_place[0].footstep.side is Side.LEFT
+    )  # keeps alternation
     forced = path_targets(waypoints, first_swing="left")
     assert forced[0].footstep.side is Side.LEFT and forced[1].footstep.side is Side.RIGHT
 
@@ -142,7 +189,9 @@ def test_shipped_paths_give_valid_unclamped_plans(name, nb_steps, final_yaw):
         assert step is target.footstep
     final = plan.stance(plan.nb_steps)
     for side in Side:
-        np.testing.assert_allclose(final[side].position, waypoints[-1].foot(side).position, atol=1e-12)
+        np.testing.assert_allclose(
+            final[side].position, waypoints[-1].foot(side).position, atol=1e-12
+        )
         assert final[side].yaw == pytest.approx(final_yaw, abs=1e-12)
     assert ContactSchedule(plan).duration == pytest.approx(2.0 + 0.5 * nb_steps)
     # paper A: the first two steps are in place
@@ -156,10 +205,14 @@ def test_shipped_paths_give_valid_unclamped_plans(name, nb_steps, final_yaw):
 def test_shipped_path_geometry():
     straight = read_mdat(PAPER_A / "straight.mdat")
     np.testing.assert_allclose(straight[0].left.xy - straight[0].right.xy, [0.0, 0.24])
-    assert straight[-1].left.xy[0] == pytest.approx(3.0) and straight[-1].right.xy[0] == pytest.approx(3.0)
+    assert straight[-1].left.xy[0] == pytest.approx(3.0) and straight[-1].right.xy[
+        0
+    ] == pytest.approx(3.0)
     assert all(w.left.yaw == 0.0 and w.right.yaw == 0.0 for w in straight)
     turning = read_mdat(PAPER_A / "turning.mdat")
-    np.testing.assert_allclose(0.5 * (turning[0].left.xy + turning[0].right.xy), [0.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(
+        0.5 * (turning[0].left.xy + turning[0].right.xy), [0.0, 0.0], atol=1e-12
+    )
     assert turning[0].left.yaw == pytest.approx(-math.pi / 2, abs=1e-12)
     yaws = [w.left.yaw for w in turning]
     assert len(set(np.round(yaws, 9))) > 5  # orientation changes along the arc

@@ -97,7 +97,9 @@ def test_double_support_hull_contains_both_feet():
     # Padding rows never bind inside the polygon.
     pts = np.random.default_rng(1).uniform(-0.1, 0.1, size=(200, 2))
     inside = hull.contains(pts)
-    np.testing.assert_array_equal(np.all(pts @ A.T <= b + 1e-12, axis=1), inside | (hull.signed_distance(pts) >= -1e-12))
+    np.testing.assert_array_equal(
+        np.all(pts @ A.T <= b + 1e-12, axis=1), inside | (hull.signed_distance(pts) >= -1e-12)
+    )
 
 
 def test_convex_hull_ccw():

@@ -5,12 +5,12 @@ import functools
 import numpy as np
 import pytest
 import qpsolvers
+from plans import velocity_schedule as arc_schedule
 
 from mpcwalk.exceptions import ConfigurationError, NoSolutionFound, SolverNotFound
+from mpcwalk.gait.support_margins import support_margins
 from mpcwalk.generators import ComState, make_generator
 from mpcwalk.generators.mpc import MpcGenerator
-from mpcwalk.metrics import support_margins
-from plans import velocity_schedule as arc_schedule
 
 COMMANDS = {  # (vx [m/s], vy [m/s], yaw rate [rad/s]) in the torso frame
     "straight": (0.1, 0.0, 0.0),
@@ -19,9 +19,7 @@ COMMANDS = {  # (vx [m/s], vy [m/s], yaw rate [rad/s]) in the torso frame
 }
 
 
-
-
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def schedule_of(name, nb_steps=20):
     return arc_schedule(COMMANDS[name], nb_steps)
 
@@ -34,7 +32,7 @@ def walk(generator, schedule, measured=None):
     return outs
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def default_walk(name):
     return walk(MpcGenerator(), schedule_of(name))
 
@@ -60,8 +58,9 @@ def test_planned_zmp_stays_in_the_support_polygon(name, record_property):
     planned, executed = zmp_margins(schedule, outs)
     record_property("min_planned_zmp_margin_m", planned)
     record_property("min_executed_zmp_margin_m", executed)
-    print(f"{name}: min ZMP margin planned {planned * 1e3:.2f} mm, "
-          f"executed {executed * 1e3:.2f} mm")
+    print(
+        f"{name}: min ZMP margin planned {planned * 1e3:.2f} mm, executed {executed * 1e3:.2f} mm"
+    )
     assert planned >= -1e-6
     assert executed >= EXECUTED_MARGIN[name]
 
@@ -96,16 +95,20 @@ def test_feedback_of_the_output_matches_open_loop(formulation):
     com = np.array([o.com for o in open_loop])
     assert np.max(np.abs(np.array([o.com for o in closed]) - com)) < 1e-12
     # Position and velocity only: the generator keeps its own acceleration.
-    no_acc = walk(MpcGenerator(formulation=formulation), schedule,
-                  measured=lambda o: ComState(o.com, o.com_velocity))
+    no_acc = walk(
+        MpcGenerator(formulation=formulation),
+        schedule,
+        measured=lambda o: ComState(o.com, o.com_velocity),
+    )
     assert np.max(np.abs(np.array([o.com for o in no_acc]) - com)) < 1e-12
 
 
 def test_warm_started_osqp_matches_cold_solvers():
     schedule = schedule_of("turning", 4)
     runs = {
-        "osqp-direct": MpcGenerator(solver="osqp-direct",
-                                    solver_settings=dict(eps_abs=1e-7, eps_rel=1e-7)),
+        "osqp-direct": MpcGenerator(
+            solver="osqp-direct", solver_settings=dict(eps_abs=1e-7, eps_rel=1e-7)
+        ),
         "osqp": MpcGenerator(solver="osqp", solver_settings=dict(eps_abs=1e-7, eps_rel=1e-7)),
         "quadprog": MpcGenerator(solver="quadprog"),
     }
@@ -128,8 +131,14 @@ def test_warm_started_osqp_matches_cold_solvers():
 def test_sparse_and_dense_generators_agree():
     schedule = schedule_of("sideways", 4)
     dense = walk(MpcGenerator(solver="daqp"), schedule)
-    sparse = walk(MpcGenerator(solver="osqp-direct", formulation="sparse",
-                               solver_settings=dict(eps_abs=1e-8, eps_rel=1e-8)), schedule)
+    sparse = walk(
+        MpcGenerator(
+            solver="osqp-direct",
+            formulation="sparse",
+            solver_settings=dict(eps_abs=1e-8, eps_rel=1e-8),
+        ),
+        schedule,
+    )
     gap = np.max(np.abs(np.array([o.com for o in dense]) - np.array([o.com for o in sparse])))
     assert gap < 1e-6
 
@@ -208,8 +217,9 @@ def test_default_mpc_is_stable_for_small_and_tall_robots(com_height):
     from mpcwalk.models.lipm import LIPM
 
     scale = com_height / 0.23
-    schedule = arc_schedule((0.1 * scale, 0.0, 0.2), 10, step_duration=0.5 * np.sqrt(scale),
-                            half_width=0.04 * scale)
+    schedule = arc_schedule(
+        (0.1 * scale, 0.0, 0.2), 10, step_duration=0.5 * np.sqrt(scale), half_width=0.04 * scale
+    )
     # Unconstrained: the small test feet would not hold the tall robot's steps, and the
     # instability is one of the receding horizon itself.
     outs = walk(MpcGenerator(lipm=LIPM(com_height), constrained=False), schedule)

@@ -5,33 +5,38 @@ import functools
 
 import numpy as np
 import pytest
+from plans import velocity_schedule
 
-from mpcwalk.exceptions import (ConfigurationError, InfeasibleStep, NoSolutionFound, NotReset,
-                                SolverNotFound)
+from mpcwalk.exceptions import (
+    ConfigurationError,
+    InfeasibleStep,
+    NoSolutionFound,
+    NotReset,
+    SolverNotFound,
+)
 from mpcwalk.footsteps import FootGeometry, Footstep, FootstepPlan, LegLimits, ReachabilityRectangle
 from mpcwalk.footsteps.footstep import wrap_angle
 from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.gait.support_margins import support_margins
 from mpcwalk.generators import ComState, generator_names, make_generator, rollout
 from mpcwalk.generators.mpc import MpcGenerator
 from mpcwalk.generators.mpc_steps import FootstepMpcGenerator
-from mpcwalk.metrics import support_margins
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.models.support_polygon import SupportPolygon, foot_rectangle
 from mpcwalk.qp.footstep_parameters import blended_rectangles
-from plans import velocity_schedule
 
 LIPM_SMALL = LIPM(com_height=0.23)  # bioloid-like
 #: Push time: middle of step 2's single support, the right foot swinging, the left supporting.
 PUSH_TIME = 2.2  # [s]
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def straight(nb_steps=10):
     return velocity_schedule((0.1, 0.0, 0.0), nb_steps)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def turning(nb_steps=10):
     return velocity_schedule((0.1, 0.0, np.deg2rad(20.0)), nb_steps)
 
@@ -70,9 +75,12 @@ def pushed_walk(gen, kick, schedule, push_time=PUSH_TIME):
         else:  # same acceleration on both sides: the jerk is its change
             jerk = (out.com_acceleration - plant[2]) / gen.control_period
             plant = cart.integrate(plant, jerk, gen.control_period)
-        zmp = plant[0] - plant[2] / gen.lipm.omega ** 2
-        outs.append(dataclasses.replace(out, com=plant[0], com_velocity=plant[1],
-                                        com_acceleration=plant[2], zmp=zmp))
+        zmp = plant[0] - plant[2] / gen.lipm.omega**2
+        outs.append(
+            dataclasses.replace(
+                out, com=plant[0], com_velocity=plant[1], com_acceleration=plant[2], zmp=zmp
+            )
+        )
     return outs, None
 
 
@@ -98,8 +106,10 @@ def test_undisturbed_walk_steps_on_the_plan(name, record_property):
     margin = support_margins(gen.schedule, run.times, run.zmp).min()
     record_property("max_footstep_move_m", float(moved.max()))
     record_property("min_executed_zmp_margin_m", float(margin))
-    print(f"{name}: footsteps within {moved.max() * 1e3:.2f} mm of the plan, executed ZMP "
-          f"margin >= {margin * 1e3:.2f} mm, {gen.nb_publications} schedules published")
+    print(
+        f"{name}: footsteps within {moved.max() * 1e3:.2f} mm of the plan, executed ZMP "
+        f"margin >= {margin * 1e3:.2f} mm, {gen.nb_publications} schedules published"
+    )
     assert moved.max() < max_move
     assert margin > min_margin  # the ZMP is pulled to the foot centres
     assert gen.nb_publications <= max_publications  # only moves beyond 1 mm are published
@@ -133,13 +143,16 @@ def test_same_walk_as_the_fixed_mpc_when_footsteps_are_pinned():
     assert gap < 0.01
 
 
-@pytest.mark.parametrize("kick, axis, low, high", [
-    ((0.0, -0.2), 1, -0.061, -0.04),  # outward for the swinging right foot: at the reach limit
-    ((0.0, -0.15), 1, -0.04, -0.01),  # measured -22 mm
-    ((0.0, -0.1), 1, -0.01, 0.0),  # measured -5.5 mm: the ZMP in the foot takes most
-    ((0.3, 0.0), 0, 0.02, 0.031),  # forward: up to the reach limit (0.08 - 0.05 m)
-    ((-0.2, 0.0), 0, -0.05, -0.02),  # backward: measured -35 mm (limit -0.04 - 0.05 m)
-])
+@pytest.mark.parametrize(
+    "kick, axis, low, high",
+    [
+        ((0.0, -0.2), 1, -0.061, -0.04),  # outward for the swinging right foot: at the reach limit
+        ((0.0, -0.15), 1, -0.04, -0.01),  # measured -22 mm
+        ((0.0, -0.1), 1, -0.01, 0.0),  # measured -5.5 mm: the ZMP in the foot takes most
+        ((0.3, 0.0), 0, 0.02, 0.031),  # forward: up to the reach limit (0.08 - 0.05 m)
+        ((-0.2, 0.0), 0, -0.05, -0.02),  # backward: measured -35 mm (limit -0.04 - 0.05 m)
+    ],
+)
 def test_a_push_moves_the_next_footstep_its_way(kick, axis, low, high, record_property):
     schedule = straight()
     gen = generator()
@@ -150,8 +163,10 @@ def test_a_push_moves_the_next_footstep_its_way(kick, axis, low, high, record_pr
     margin = executed_margins(gen.schedule, outs).min()
     record_property("step_move_m", move.tolist())
     record_property("min_executed_zmp_margin_m", float(margin))
-    print(f"kick {kick} m/s: step 2 moved by {np.round(move * 1e3, 1)} mm, executed ZMP "
-          f"margin {margin * 1e3:.2f} mm")
+    print(
+        f"kick {kick} m/s: step 2 moved by {np.round(move * 1e3, 1)} mm, executed ZMP "
+        f"margin {margin * 1e3:.2f} mm"
+    )
     assert low <= move[axis] <= high
     assert abs(move[1 - axis]) < 0.005
     assert margin > -1e-3  # measured >= -0.04 mm (constrained at mid-interval too)
@@ -159,12 +174,15 @@ def test_a_push_moves_the_next_footstep_its_way(kick, axis, low, high, record_pr
     assert np.linalg.norm(outs[-1].com - final_stance) < 0.005  # it stops over its feet
 
 
-@pytest.mark.parametrize("kick, fixed_fails, adaptive_fails", [
-    ((0.0, -0.2), True, False),
-    ((0.3, 0.0), True, False),
-    ((0.0, -0.15), False, False),  # the fixed MPC goes on, its ZMP 24 mm out of the foot
-    ((0.0, 0.2), True, True),  # towards the support foot: the swing foot cannot cross
-])
+@pytest.mark.parametrize(
+    "kick, fixed_fails, adaptive_fails",
+    [
+        ((0.0, -0.2), True, False),
+        ((0.3, 0.0), True, False),
+        ((0.0, -0.15), False, False),  # the fixed MPC goes on, its ZMP 24 mm out of the foot
+        ((0.0, 0.2), True, True),  # towards the support foot: the swing foot cannot cross
+    ],
+)
 def test_against_the_fixed_footstep_mpc(kick, fixed_fails, adaptive_fails, record_property):
     """Same kicks on the fixed-footstep MPC: a failed plan (its fallback runs out and it
     raises), or a plan whose executed ZMP leaves the feet between samples; the adaptive
@@ -204,8 +222,12 @@ def test_random_pushes_keep_every_footstep_reachable(record_property):
     for _ in range(12):
         angle, speed = rng.uniform(-np.pi, np.pi), rng.uniform(0.05, 0.3)
         gen = generator()
-        outs, error = pushed_walk(gen, speed * np.array([np.cos(angle), np.sin(angle)]),
-                                  schedule, push_time=round(rng.uniform(1.1, 3.6), 2))
+        outs, error = pushed_walk(
+            gen,
+            speed * np.array([np.cos(angle), np.sin(angle)]),
+            schedule,
+            push_time=round(rng.uniform(1.1, 3.6), 2),
+        )
         recovered += error is None
         previous = schedule
         for out in outs:
@@ -223,8 +245,10 @@ def test_random_pushes_keep_every_footstep_reachable(record_property):
             previous = out.schedule
     record_property("schedules_checked", published)
     record_property("worst_reach_margin_m", float(worst))
-    print(f"{published} schedules, {recovered}/12 pushes recovered, worst margin to the "
-          f"reachability bounds {worst * 1e3:.4f} mm")
+    print(
+        f"{published} schedules, {recovered}/12 pushes recovered, worst margin to the "
+        f"reachability bounds {worst * 1e3:.4f} mm"
+    )
     assert published > 50
     assert worst > -1e-6
     assert recovered >= 9
@@ -238,14 +262,20 @@ def test_blended_rectangles_stay_in_the_hull_of_the_feet():
     for _ in range(50):
         a, b = rng.uniform(-0.1, 0.1, 2), rng.uniform(-0.1, 0.1, 2)
         yaw_a, yaw_b, lam = rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform()
-        normals, half = blended_rectangles(np.array([yaw_a]), np.array([yaw_b]),
-                                           np.array([lam]), foot)
+        normals, half = blended_rectangles(
+            np.array([yaw_a]), np.array([yaw_b]), np.array([lam]), foot
+        )
         front, left = normals[0, 0], normals[0, 2]
         centre = (1 - lam) * a + lam * b
-        points = centre + 2 * (corners[:, :1] * half[0, 0] * front
-                               + corners[:, 1:] * half[0, 2] * left)
-        hull = SupportPolygon.union_hull([foot_rectangle(a, yaw_a, foot.length, foot.width),
-                                          foot_rectangle(b, yaw_b, foot.length, foot.width)])
+        points = centre + 2 * (
+            corners[:, :1] * half[0, 0] * front + corners[:, 1:] * half[0, 2] * left
+        )
+        hull = SupportPolygon.union_hull(
+            [
+                foot_rectangle(a, yaw_a, foot.length, foot.width),
+                foot_rectangle(b, yaw_b, foot.length, foot.width),
+            ]
+        )
         assert hull.signed_distance(points).min() > -1e-12
     # Same yaws: the full sole.
     _, half = blended_rectangles(np.zeros(1), np.zeros(1), np.array([0.3]), foot)
@@ -273,14 +303,15 @@ def test_standing_schedule_without_steps():
 
 
 def test_for_robot_takes_the_leg_limits_and_walks_in_mujoco(record_property):
-    from mpcwalk.robots import load_robot
-    from mpcwalk.walk import run_walk
+    from mpcwalk.robot.loading import load_robot
+    from mpcwalk.walking.runner import run_walk
 
     gen = FootstepMpcGenerator.for_robot(load_robot("bioloid-like", visual=False))
     assert gen.lipm.com_height == pytest.approx(0.23)
     assert (gen.reachability.y_min, gen.reachability.y_max) == pytest.approx((0.08, 0.12))
-    result = run_walk("bioloid-like", "mpc-steps", command=(0.1, 0.0, 0.0), nb_steps=6,
-                      progress=False)
+    result = run_walk(
+        "bioloid-like", "mpc-steps", command=(0.1, 0.0, 0.0), nb_steps=6, progress=False
+    )
     metrics = result.metrics
     record_property("foot_step_error_cm_max", metrics["foot_step_error_cm_max"])
     assert not metrics["fell"] and metrics["mpc_failures"] == 0
@@ -294,23 +325,27 @@ def test_registered_under_its_name():
 
 
 def test_a_rectangle_excluding_the_plan_is_a_named_error():
-    short = ReachabilityRectangle(x_min=-0.04, x_max=0.03, y_min=0.08, y_max=0.14,
-                                  yaw_min=-0.2, yaw_max=0.35)
+    short = ReachabilityRectangle(
+        x_min=-0.04, x_max=0.03, y_min=0.08, y_max=0.14, yaw_min=-0.2, yaw_max=0.35
+    )
     gen = generator(reachability=short)
     with pytest.raises(InfeasibleStep, match="Planned step 0 .*outside the reachability"):
         gen.reset(straight())
 
 
-@pytest.mark.parametrize("options, match", [
-    ({"solver": "osqp-direct"}, "through qpsolvers"),
-    ({"footstep_reference": "sideways"}, "footstep_reference"),
-    ({"jerk_weight": 0.0}, "jerk_weight must be a positive"),
-    ({"horizon_length": 3}, "Unknown footstep MPC parameter"),
-    ({"reachability": (0.1, 0.2)}, "ReachabilityRectangle or LegLimits"),
-    ({"publish_tolerance": -1.0}, "publish_tolerance"),
-    ({"dcm_step_gain": -0.3}, "dcm_step_gain must be a non-negative"),
-    ({"dcm_deadband": float("nan")}, "dcm_deadband must be a non-negative"),
-])
+@pytest.mark.parametrize(
+    "options, match",
+    [
+        ({"solver": "osqp-direct"}, "through qpsolvers"),
+        ({"footstep_reference": "sideways"}, "footstep_reference"),
+        ({"jerk_weight": 0.0}, "jerk_weight must be a positive"),
+        ({"horizon_length": 3}, "Unknown footstep MPC parameter"),
+        ({"reachability": (0.1, 0.2)}, "ReachabilityRectangle or LegLimits"),
+        ({"publish_tolerance": -1.0}, "publish_tolerance"),
+        ({"dcm_step_gain": -0.3}, "dcm_step_gain must be a non-negative"),
+        ({"dcm_deadband": float("nan")}, "dcm_deadband must be a non-negative"),
+    ],
+)
 def test_bad_configuration_is_a_named_error(options, match):
     with pytest.raises(ConfigurationError, match=match):
         generator(**options)
@@ -379,14 +414,24 @@ def test_mujoco_push_felling_the_closed_form_gait_is_recovered_by_the_adaptive_m
     open-loop closed form falls, the footstep-adaptive MPC with feedback walks on (largest
     forward impulses survived, ``results/paper_m``: below 0.1 N s against 0.55 N s)."""
     from mpcwalk.sim import ExternalForce
-    from mpcwalk.walk import run_walk
+    from mpcwalk.walking.runner import run_walk
 
     push = [ExternalForce(2.05, 0.1, [3.0, 0.0, 0.0])]  # 0.3 N s
     runs = {
-        name: run_walk("bioloid-like", generator, command=(0.1, 0.0, 0.0), nb_steps=5,
-                       pushes=push, feedback=feedback, progress=False).metrics
-        for name, generator, feedback in (("open loop", "analytic", False),
-                                          ("adaptive", "mpc-steps", True))}
+        name: run_walk(
+            "bioloid-like",
+            generator,
+            command=(0.1, 0.0, 0.0),
+            nb_steps=5,
+            pushes=push,
+            feedback=feedback,
+            progress=False,
+        ).metrics
+        for name, generator, feedback in (
+            ("open loop", "analytic", False),
+            ("adaptive", "mpc-steps", True),
+        )
+    }
     assert runs["open loop"]["fell"]
     assert not runs["adaptive"]["fell"], runs["adaptive"]["fall_reason"]
     assert runs["adaptive"]["mpc_failures"] == 0

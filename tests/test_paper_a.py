@@ -5,17 +5,23 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from mpcwalk.control.stabilizers import make_stabilizer
+from mpcwalk.control.stabilizers.ankle_imu import AnkleImuStabilizer
+from mpcwalk.control.stabilizers.paper_a import GaitState, PaperAStateMachine
 from mpcwalk.exceptions import ConfigurationError, FootstepFileError, InfeasibleStep
-from mpcwalk.experiments_paper_a import (ControllerSpec, PAPER_A_ROW, format_table,
-                                          placement_errors, table_row, walk_path)
+from mpcwalk.experiments.paper_a import (
+    PAPER_A_ROW,
+    ControllerSpec,
+    format_table,
+    placement_errors,
+    table_row,
+    walk_path,
+)
 from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side, StepTiming
 from mpcwalk.footsteps.mdat import parse_mdat, plan_from_path
 from mpcwalk.footsteps.path_follower import PathFollower
 from mpcwalk.footsteps.reachability import ATLAS_REACHABILITY
 from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.paper_a import GaitState, PaperAStateMachine
-from mpcwalk.stabilizers import make_stabilizer
-from mpcwalk.stabilizers.ankle_imu import AnkleImuStabilizer
 
 ROOT = Path(__file__).resolve().parent.parent
 STRAIGHT = ROOT / "experiments" / "paper_a" / "straight.mdat"
@@ -41,11 +47,18 @@ def test_state_machine_cycles_through_paper_a_states():
     for t in np.arange(0.0, schedule.duration, 0.01):
         machine.update(float(t))
     states = [state for _, state in machine.history]
-    assert states == [GaitState.BEGIN,
-                      GaitState.LIFT_RIGHT, GaitState.LOWER_RIGHT,
-                      GaitState.LIFT_LEFT, GaitState.LOWER_LEFT,
-                      GaitState.LIFT_RIGHT, GaitState.LOWER_RIGHT,
-                      GaitState.LIFT_LEFT, GaitState.LOWER_LEFT, GaitState.DONE]
+    assert states == [
+        GaitState.BEGIN,
+        GaitState.LIFT_RIGHT,
+        GaitState.LOWER_RIGHT,
+        GaitState.LIFT_LEFT,
+        GaitState.LOWER_LEFT,
+        GaitState.LIFT_RIGHT,
+        GaitState.LOWER_RIGHT,
+        GaitState.LIFT_LEFT,
+        GaitState.LOWER_LEFT,
+        GaitState.DONE,
+    ]
     times = [t for t, _ in machine.history]
     # lift at the step start (walk_start = 1 s), lower at the middle of single support
     assert times[1] == pytest.approx(schedule.walk_start, abs=0.011)
@@ -111,16 +124,21 @@ def test_malformed_path_names_the_line():
     with pytest.raises(FootstepFileError, match=r"<string>:3.*expected 14 numbers") as error:
         parse_mdat(text)
     assert error.value.line == 3
-    text = LINE.format(xl=0, yl=0.12, xr=0, yr=-0.12) + "\n" + LINE.format(
-        xl="0.2", yl="abc", xr=0, yr=-0.12)
+    text = (
+        LINE.format(xl=0, yl=0.12, xr=0, yr=-0.12)
+        + "\n"
+        + LINE.format(xl="0.2", yl="abc", xr=0, yr=-0.12)
+    )
     with pytest.raises(FootstepFileError, match=r":2 \(field 'ylf'\).*'abc' is not a number"):
         parse_mdat(text)
 
 
 def test_unreachable_path_names_the_line():
-    lines = [LINE.format(xl=0, yl=0.12, xr=0, yr=-0.12),
-             LINE.format(xl=0, yl=0.12, xr=0, yr=-0.12),
-             LINE.format(xl=0, yl=3.0, xr=0, yr=-0.12)]  # left foot 2.9 m sideways
+    lines = [
+        LINE.format(xl=0, yl=0.12, xr=0, yr=-0.12),
+        LINE.format(xl=0, yl=0.12, xr=0, yr=-0.12),
+        LINE.format(xl=0, yl=3.0, xr=0, yr=-0.12),
+    ]  # left foot 2.9 m sideways
     waypoints = parse_mdat("\n".join(lines))
     with pytest.raises(InfeasibleStep, match=r"line 3.*out of reach"):
         plan_from_path(waypoints, rectangle=ATLAS_REACHABILITY, max_extra_steps=3)
@@ -154,7 +172,7 @@ def test_straight_walk_mpc_meets_the_placement_goals():
     assert row["position_error_max_cm"] < 1.5
     assert row["yaw_error_mean_deg"] < 0.2
     assert row["yaw_error_max_deg"] < 1.0
-    positions, yaws = placement_errors(result)
+    positions, _yaws = placement_errors(result)
     assert len(positions) == 18
     assert np.mean(positions) == pytest.approx(row["position_error_mean_cm"], rel=1e-9)
 
@@ -163,16 +181,18 @@ def test_straight_walk_mpc_meets_the_placement_goals():
 def test_paper_a_gait_walks_with_ankle_imu():
     """Paper A's gait (static generator + ankle-imu + re-aiming), shortened, at the
     fastest upright timing found (3.5 s, r_ds 0.5), 3 steps."""
-    spec = ControllerSpec("paper A", "static", 3.5, double_support_ratio=0.5, ankle_imu=True,
-                          swing_profile="ctraj")
+    spec = ControllerSpec(
+        "paper A", "static", 3.5, double_support_ratio=0.5, ankle_imu=True, swing_profile="ctraj"
+    )
     result = walk_path(spec, STRAIGHT, nb_steps=3)
     assert not result.fall.fell
     assert result.metrics["steps_completed"] == 3
     # Faster (3 s per step) the ankle strategy and IMU correction make the difference over
     # four steps (on the whole path it still falls, at step 7, and at step 2 without them).
     fast = dict(double_support_ratio=0.5, swing_profile="ctraj")
-    with_ankle = walk_path(ControllerSpec("a", "static", 3.0, ankle_imu=True, **fast),
-                           STRAIGHT, nb_steps=4)
+    with_ankle = walk_path(
+        ControllerSpec("a", "static", 3.0, ankle_imu=True, **fast), STRAIGHT, nb_steps=4
+    )
     without = walk_path(ControllerSpec("b", "static", 3.0, **fast), STRAIGHT, nb_steps=4)
     assert not with_ankle.fall.fell and without.fall.fell
     assert result.metrics["foot_position_error_cm_max"] < PAPER_A_ROW["position_error_max_cm"]
@@ -182,15 +202,27 @@ def test_paper_a_gait_walks_with_ankle_imu():
 def test_walk_cli_builds_paper_a_stabilizer():
     import argparse
 
-    from mpcwalk.walk_cli import _stabilizer, _swing_profile, add_walk_parser
+    from mpcwalk.walking.cli import _stabilizer, _swing_profile, add_walk_parser
 
     parser = argparse.ArgumentParser()
     add_walk_parser(parser.add_subparsers())
     # The issue's command for paper A's gait: re-aiming is on for path files, and paper A's
     # stabilizer brings paper A's quintic Cartesian swing.
-    args = parser.parse_args(["walk", "--robot", "atlas-like", "--generator", "static",
-                              "--stabilizer", "ankle-imu", "--path", str(STRAIGHT),
-                              "--out", "unused"])
+    args = parser.parse_args(
+        [
+            "walk",
+            "--robot",
+            "atlas-like",
+            "--generator",
+            "static",
+            "--stabilizer",
+            "ankle-imu",
+            "--path",
+            str(STRAIGHT),
+            "--out",
+            "unused",
+        ]
+    )
     assert _stabilizer(args).name == "paper-a+ankle-imu"
     assert _swing_profile(args) == "ctraj"
     args = parser.parse_args(["walk", "--path", str(STRAIGHT), "--out", "unused"])
@@ -221,8 +253,10 @@ class _StubController:
         return 1.0, 0.0
 
 
-@pytest.mark.parametrize("com_offset, joint, sign", [((0.05, 0.0), "left_ankle_pitch", 1.0),
-                                                     ((0.0, 0.05), "left_ankle_roll", -1.0)])
+@pytest.mark.parametrize(
+    "com_offset, joint, sign",
+    [((0.05, 0.0), "left_ankle_pitch", 1.0), ((0.0, 0.05), "left_ankle_roll", -1.0)],
+)
 def test_ankle_strategy_turns_the_body_back_over_the_foot(com_offset, joint, sign):
     """CoM 5 cm ahead of (left of) the reference over a left support foot: the ankle pitch
     (roll) correction is +kp (-kp) times the 0.05 rad angle (plus the first integral step):
@@ -236,14 +270,20 @@ def test_ankle_strategy_turns_the_body_back_over_the_foot(com_offset, joint, sig
     stabilizer = AnkleImuStabilizer(kp=0.5, ki=0.2, kd=0.0, imu_gain=0.0)
     stabilizer.reset(controller)
     zero = np.zeros(3)
-    feet = FeetState(0.0, 0, FootState(np.array([0.0, 0.1, 0.0]), 0.0, zero, 0.0, True),
-                     FootState(np.array([0.0, -0.1, 0.05]), 0.0, zero, 0.0, False))
+    feet = FeetState(
+        0.0,
+        0,
+        FootState(np.array([0.0, 0.1, 0.0]), 0.0, zero, 0.0, True),
+        FootState(np.array([0.0, -0.1, 0.05]), 0.0, zero, 0.0, False),
+    )
     imu = SimpleNamespace(roll=0.0, pitch=0.0)
     measurement = SimpleNamespace(
         sole_positions=np.array([[0.0, 0.1, 0.0], [0.0, -0.1, 0.05]]),
         sole_rotations=np.array([np.eye(3), np.eye(3)]),
-        measurements=SimpleNamespace(imu=imu, com=np.array([com_offset[0], 0.1 + com_offset[1],
-                                                            1.0])))
+        measurements=SimpleNamespace(
+            imu=imu, com=np.array([com_offset[0], 0.1 + com_offset[1], 1.0])
+        ),
+    )
     out = stabilizer.adjust_joint_targets(controller, 0.01, np.zeros(4), feet, measurement)
     expected = sign * 0.05 * (0.5 + 0.2 * 0.01)
     assert out[names.index(joint)] == pytest.approx(expected, rel=1e-9)

@@ -12,16 +12,30 @@ import numpy as np
 import pytest
 
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.experiments_paper_m import (CONTROLLERS, PaperMConfig, TurningConfig,
-                                         controller_availability, load_config, push_case_task,
-                                         turning_summary, walk_task)
+from mpcwalk.experiments.paper_m import (
+    CONTROLLERS,
+    PaperMConfig,
+    TurningConfig,
+    controller_availability,
+    load_config,
+    push_case_task,
+    turning_summary,
+    walk_task,
+)
+from mpcwalk.experiments.paper_m_report import format_readme, format_table, goal_checks, table_rows
+from mpcwalk.experiments.parallel_walks import WorkerProcessDied, run_tasks
+from mpcwalk.experiments.push_sweep import (
+    CaseResult,
+    PushSweepConfig,
+    SweepCase,
+    capture_impulse_bound,
+    find_largest_survived,
+    rectangle_ray_distance,
+    summarize_sweep,
+)
 from mpcwalk.models.lipm import LIPM
-from mpcwalk.walk_report import yaw_deviation_deg
-from mpcwalk.paper_m_report import format_readme, format_table, goal_checks, table_rows
-from mpcwalk.parallel_walks import WorkerProcessDied, run_tasks
-from mpcwalk.push_sweep import (CaseResult, PushSweepConfig, SweepCase, capture_impulse_bound,
-                                find_largest_survived, rectangle_ray_distance, summarize_sweep)
 from mpcwalk.sim import ExternalForce
+from mpcwalk.walking.report import yaw_deviation_deg
 
 ROOT = Path(__file__).resolve().parent.parent
 MASS, HEIGHT = 2.02, 0.23
@@ -33,7 +47,7 @@ def test_rectangle_ray_distance_reaches_the_sole_border():
     assert rectangle_ray_distance(math.pi / 2, 0.05, 0.05, 0.03) == pytest.approx(0.03)
     assert rectangle_ray_distance(math.pi, 0.08, 0.04, 0.04) == pytest.approx(0.04)
     # 45 deg: the lateral side is hit first, at 0.03 / sin(45 deg)
-    assert rectangle_ray_distance(math.pi / 4, 0.05, 0.05, 0.03) == pytest.approx(0.03 * 2 ** 0.5)
+    assert rectangle_ray_distance(math.pi / 4, 0.05, 0.05, 0.03) == pytest.approx(0.03 * 2**0.5)
     # 20 deg: the front side, at 0.05 / cos(20 deg)
     angle = math.radians(20.0)
     assert rectangle_ray_distance(angle, 0.05, 0.05, 0.03) == pytest.approx(0.05 / math.cos(angle))
@@ -42,14 +56,18 @@ def test_rectangle_ray_distance_reaches_the_sole_border():
 def test_capture_impulse_bound_values():
     # no step: m omega d, with omega = sqrt(9.81 / 0.23) = 6.531 1/s
     assert capture_impulse_bound(0.0, mass=MASS, com_height=HEIGHT) == pytest.approx(
-        2.02 * 6.53085 * 0.05, rel=1e-5)
-    assert capture_impulse_bound(0.0, mass=MASS, com_height=HEIGHT) == pytest.approx(0.65962,
-                                                                                     rel=1e-4)
+        2.02 * 6.53085 * 0.05, rel=1e-5
+    )
+    assert capture_impulse_bound(0.0, mass=MASS, com_height=HEIGHT) == pytest.approx(
+        0.65962, rel=1e-4
+    )
     assert capture_impulse_bound(math.pi / 2, mass=MASS, com_height=HEIGHT) == pytest.approx(
-        MASS * OMEGA * 0.03)
+        MASS * OMEGA * 0.03
+    )
     # one forward step of 0.08 m landing 0.25 s later adds m omega L exp(-omega t)
-    with_step = capture_impulse_bound(0.0, mass=MASS, com_height=HEIGHT,
-                                      step_reach=(0.08, 0.04, 0.04), step_time=0.25)
+    with_step = capture_impulse_bound(
+        0.0, mass=MASS, com_height=HEIGHT, step_reach=(0.08, 0.04, 0.04), step_time=0.25
+    )
     assert with_step == pytest.approx(MASS * OMEGA * (0.05 + 0.08 * math.exp(-OMEGA * 0.25)))
     assert with_step == pytest.approx(0.8658, rel=1e-3)  # 13.19 * (0.05 + 0.0156)
     with pytest.raises(ConfigurationError, match="mass > 0 kg"):
@@ -62,8 +80,9 @@ def test_capture_bound_matches_the_lipm(factor, captured):
     then a step landing t later with the ZMP at L + d: it stops before L + d iff the impulse
     is within the bound."""
     lipm, d, L, t = LIPM(HEIGHT, 9.81), 0.05, 0.08, 0.25
-    bound = capture_impulse_bound(0.0, mass=MASS, com_height=HEIGHT, step_reach=(L, L, L),
-                                  step_time=t, gravity=9.81)
+    bound = capture_impulse_bound(
+        0.0, mass=MASS, com_height=HEIGHT, step_reach=(L, L, L), step_time=t, gravity=9.81
+    )
     velocity = factor * bound / MASS
     c, v, _ = lipm.propagate(0.0, velocity, d, t)
     c, v, _ = lipm.propagate(c, v, L + d, 3.0)
@@ -73,8 +92,9 @@ def test_capture_bound_matches_the_lipm(factor, captured):
     assert (c <= d) == captured
 
 
-@pytest.mark.parametrize("threshold, initial", [(0.537, 0.4), (0.537, 2.0), (0.11, 0.4),
-                                                (1.9, 0.4)])
+@pytest.mark.parametrize(
+    "threshold, initial", [(0.537, 0.4), (0.537, 2.0), (0.11, 0.4), (1.9, 0.4)]
+)
 def test_bisection_finds_the_threshold_of_a_monotone_oracle(threshold, initial):
     calls = []
 
@@ -88,8 +108,13 @@ def test_bisection_finds_the_threshold_of_a_monotone_oracle(threshold, initial):
     assert [v for v, _ in found.trials] == calls and len(calls) <= 12
     assert all(ok == (v <= threshold) for v, ok in found.trials)
     # the relative tolerance stops earlier, within 20 % of the upper end
-    coarse = find_largest_survived(lambda v: v <= threshold, initial=initial, upper_limit=4.0,
-                                   tolerance=0.01, relative_tolerance=0.2)
+    coarse = find_largest_survived(
+        lambda v: v <= threshold,
+        initial=initial,
+        upper_limit=4.0,
+        tolerance=0.01,
+        relative_tolerance=0.2,
+    )
     assert coarse.largest_survived <= threshold < coarse.smallest_fallen
     assert coarse.smallest_fallen - coarse.largest_survived <= 0.2 * coarse.smallest_fallen
     assert len(coarse.trials) < len(found.trials)
@@ -108,11 +133,12 @@ def test_bisection_censored_and_zero():
 def test_push_timing_and_force():
     config = PushSweepConfig()
     # step 2 of a walk that starts at 1 s, T = 0.5 s, r_ds = 0.2: t_b = 0.05 s, t_e = 0.45 s
-    starts = {p: config.push_start(p, step_duration=0.5, double_support_ratio=0.2)
-              for p in config.phases}
+    starts = {
+        p: config.push_start(p, step_duration=0.5, double_support_ratio=0.2) for p in config.phases
+    }
     assert starts == pytest.approx({"ss-start": 2.05, "ss-mid": 2.25, "ds": 2.45})
     force = config.push_force(135.0, 0.5)  # 0.5 N s over 0.1 s: 5 N backward-left
-    assert force == pytest.approx([-5.0 / 2 ** 0.5, 5.0 / 2 ** 0.5, 0.0])
+    assert force == pytest.approx([-5.0 / 2**0.5, 5.0 / 2**0.5, 0.0])
     with pytest.raises(ConfigurationError, match="Unknown push phase"):
         PushSweepConfig(phases=("swing",))
 
@@ -120,16 +146,24 @@ def test_push_timing_and_force():
 def test_real_push_case_on_the_analytic_gait():
     """MuJoCo: the open-loop gait walks the sweep's walk unpushed, falls under a 3 N s push,
     and the bisection's answer lies between, consistent with every walk it ran."""
-    config = PushSweepConfig(directions_deg=(90.0,), phases=("ss-mid",), tolerance=0.1,
-                             relative_tolerance=0.5, max_impulse=3.0)
+    config = PushSweepConfig(
+        directions_deg=(90.0,),
+        phases=("ss-mid",),
+        tolerance=0.1,
+        relative_tolerance=0.5,
+        max_impulse=3.0,
+    )
     kwargs = CONTROLLERS["analytic"]
     walk = {"command": config.command, "nb_steps": config.nb_steps}
     unpushed = walk_task("bioloid-like", kwargs, walk)
     assert not unpushed.fall.fell
     start = config.push_start("ss-mid", step_duration=0.5, double_support_ratio=0.2)
     assert unpushed.schedule.is_single_support(np.array([start, start + 0.1])).all()
-    huge = walk_task("bioloid-like", kwargs, {**walk, "pushes": [
-        ExternalForce(start, 0.1, config.push_force(90.0, 3.0))]})
+    huge = walk_task(
+        "bioloid-like",
+        kwargs,
+        {**walk, "pushes": [ExternalForce(start, 0.1, config.push_force(90.0, 3.0))]},
+    )
     assert huge.fall.fell and huge.fall.time < start + 1.0
     result = push_case_task("bioloid-like", kwargs, config, SweepCase("analytic", 90.0, "ss-mid"))
     assert 0.0 <= result.largest_survived < result.smallest_fallen <= 3.0
@@ -159,13 +193,15 @@ def test_yaw_deviation_on_synthetic_logs():
     assert yaw_deviation_deg(pushed, reference, 4.5) == pytest.approx(2.0)
     # a walk that fell: compared until its end only
     fell = _synthetic(t[t < 3.5], (0.1 * t + bump)[t < 3.5])
-    assert yaw_deviation_deg(fell, reference, 3.05) == pytest.approx(5.0 * math.sin(0.49 * math.pi),
-                                                                 rel=1e-6)
+    assert yaw_deviation_deg(fell, reference, 3.05) == pytest.approx(
+        5.0 * math.sin(0.49 * math.pi), rel=1e-6
+    )
     # wrapped IMU yaw around +-180 deg is unwrapped, the difference wrapped
     near_pi = np.pi - 0.01 + 0.001 * t
     wrapped = (near_pi + np.radians(3.0) * (t > 3.0) + np.pi) % (2 * np.pi) - np.pi
-    assert yaw_deviation_deg(_synthetic(t, wrapped), _synthetic(t, near_pi), 3.05) == \
-        pytest.approx(3.0, abs=1e-9)
+    assert yaw_deviation_deg(_synthetic(t, wrapped), _synthetic(t, near_pi), 3.05) == pytest.approx(
+        3.0, abs=1e-9
+    )
     assert yaw_deviation_deg(pushed, reference, 99.0) == 0.0
     with pytest.raises(ConfigurationError, match="'max' or 'final'"):
         yaw_deviation_deg(pushed, reference, 3.0, statistic="mean")
@@ -176,8 +212,8 @@ def test_turning_summary_on_an_ideal_yaw():
     3.5 s and 20 deg/s."""
     from mpcwalk.footsteps.footstep import StepTiming
     from mpcwalk.gait.contact_schedule import ContactSchedule
-    from mpcwalk.robots import load_robot
-    from mpcwalk.walk import plan_walk_footsteps
+    from mpcwalk.robot.loading import load_robot
+    from mpcwalk.walking.runner import plan_walk_footsteps
 
     config = TurningConfig()
     robot = load_robot("bioloid-like", visual=False)
@@ -187,8 +223,9 @@ def test_turning_summary_on_an_ideal_yaw():
     t = np.arange(0.01, schedule.duration + 1e-9, 0.01)
     yaw = config.command[2] * np.clip(t - schedule.walk_start, 0.0, None)
     log = _synthetic(t, (yaw + np.pi) % (2 * np.pi) - np.pi)
-    result = SimpleNamespace(schedule=schedule, log=log, fall=SimpleNamespace(fell=False),
-                             metrics={"fall_time_s": None})
+    result = SimpleNamespace(
+        schedule=schedule, log=log, fall=SimpleNamespace(fell=False), metrics={"fall_time_s": None}
+    )
     summary = turning_summary(result, config)
     assert summary["yaw_at_check_deg"] == pytest.approx(70.0, abs=0.05)
     assert summary["yaw_rate_deg_s"] == pytest.approx(20.0, rel=1e-6)
@@ -202,39 +239,78 @@ def _case(name, direction, phase, largest, fallen=None):
 
 
 def _synthetic_results():
-    config = PushSweepConfig(directions_deg=(0.0, 90.0), phases=("ss-start", "ss-mid"),
-                             impulse_grid=(0.1, 0.2, 0.3, 0.4))
+    config = PushSweepConfig(
+        directions_deg=(0.0, 90.0), phases=("ss-start", "ss-mid"), impulse_grid=(0.1, 0.2, 0.3, 0.4)
+    )
     cases = [_case("analytic", d, p, 0.1, 0.12) for d in (0.0, 90.0) for p in config.phases]
-    cases += [_case("mpc", 0.0, "ss-start", 0.3, 0.33), _case("mpc", 0.0, "ss-mid", 0.35, 0.4),
-              _case("mpc", 90.0, "ss-start", 0.15, 0.17), _case("mpc", 90.0, "ss-mid", 0.25, 0.3)]
+    cases += [
+        _case("mpc", 0.0, "ss-start", 0.3, 0.33),
+        _case("mpc", 0.0, "ss-mid", 0.35, 0.4),
+        _case("mpc", 90.0, "ss-start", 0.15, 0.17),
+        _case("mpc", 90.0, "ss-mid", 0.25, 0.3),
+    ]
     summary = summarize_sweep(cases, config)
     dist = {"fell": False, "yaw_deviation_deg": 4.0}
     return config, {
-        "command": "python experiments/paper_m/run.py --quick", "mode": "quick",
-        "config": {"turning": vars(TurningConfig()) | {"command": [0.1, 0.0, 0.349]},
-                   "disturbance": {"command": [0.1, 0, 0], "pushes": [], "stabilizer": "gyro"},
-                   "push_sweep": vars(config), "speed": {"nb_steps": 10,
-                                                         "step_durations": [0.5]}},
+        "command": "python experiments/paper_m/run.py --quick",
+        "mode": "quick",
+        "config": {
+            "turning": vars(TurningConfig()) | {"command": [0.1, 0.0, 0.349]},
+            "disturbance": {"command": [0.1, 0, 0], "pushes": [], "stabilizer": "gyro"},
+            "push_sweep": vars(config),
+            "speed": {"nb_steps": 10, "step_durations": [0.5]},
+        },
         "controllers": {"analytic": CONTROLLERS["analytic"], "mpc": CONTROLLERS["mpc"]},
-        "skipped": {"mpc-steps": "no generator 'mpc-steps'"}, "wall_time_s": 12.0,
-        "workers": 2, "nb_tasks": 10,
-        "turning": {"analytic": {"fell": True, "yaw_at_check_deg": 50.0, "yaw_rate_deg_s": 15.0,
-                                 "yaw_rate_error_percent": -25.0},
-                    "mpc": {"fell": False, "yaw_at_check_deg": 66.0, "yaw_rate_deg_s": 19.5,
-                            "yaw_rate_error_percent": -2.5}},
-        "disturbance": {"analytic": {"fell": True, "yaw_deviation_deg": 11.0,
-                                     "stabilizer_ratio": 0.5, "without_stabilizer": dist,
-                                     "with_stabilizer": {"fell": True}},
-                        "mpc": {**dist, "stabilizer_ratio": 0.4,
-                                "without_stabilizer": dist, "with_stabilizer": dist}},
+        "skipped": {"mpc-steps": "no generator 'mpc-steps'"},
+        "wall_time_s": 12.0,
+        "workers": 2,
+        "nb_tasks": 10,
+        "turning": {
+            "analytic": {
+                "fell": True,
+                "yaw_at_check_deg": 50.0,
+                "yaw_rate_deg_s": 15.0,
+                "yaw_rate_error_percent": -25.0,
+            },
+            "mpc": {
+                "fell": False,
+                "yaw_at_check_deg": 66.0,
+                "yaw_rate_deg_s": 19.5,
+                "yaw_rate_error_percent": -2.5,
+            },
+        },
+        "disturbance": {
+            "analytic": {
+                "fell": True,
+                "yaw_deviation_deg": 11.0,
+                "stabilizer_ratio": 0.5,
+                "without_stabilizer": dist,
+                "with_stabilizer": {"fell": True},
+            },
+            "mpc": {
+                **dist,
+                "stabilizer_ratio": 0.4,
+                "without_stabilizer": dist,
+                "with_stabilizer": dist,
+            },
+        },
         "push_sweep": {"summary": summary},
-        "speed": {"mpc": [{"step_duration_s": 0.5, "bound_m_s": 0.16, "fastest_m_s": 0.16,
-                           "fastest_measured_m_s": 0.155, "limited_by": "kinematic bound"}]},
+        "speed": {
+            "mpc": [
+                {
+                    "step_duration_s": 0.5,
+                    "bound_m_s": 0.16,
+                    "fastest_m_s": 0.16,
+                    "fastest_measured_m_s": 0.155,
+                    "limited_by": "kinematic bound",
+                }
+            ]
+        },
     }
 
 
 def test_sweep_summary_table_and_goals_on_synthetic_results():
-    config, results = _synthetic_results()
+    _config, results = _synthetic_results()
     summary = results["push_sweep"]["summary"]
     assert summary["mpc"]["median_impulse_Ns"] == pytest.approx(0.275)
     assert summary["mpc"]["per_direction_Ns"] == pytest.approx({"0": 0.325, "90": 0.2})
@@ -246,15 +322,19 @@ def test_sweep_summary_table_and_goals_on_synthetic_results():
     assert mpc["impulse_ratio"] == pytest.approx(2.75)
     assert mpc["fastest_m_s"] == 0.16 and rows[0]["fastest_m_s"] is None
     goals = {(g["controller"], g["goal"].split()[0]): g["met"] for g in goal_checks(rows)}
-    assert goals == {("mpc", "impulse"): True, ("mpc", "turning"): True,
-                     ("analytic", "turning"): False}
+    assert goals == {
+        ("mpc", "impulse"): True,
+        ("mpc", "turning"): True,
+        ("analytic", "turning"): False,
+    }
     table = format_table(rows)
     lines = table.splitlines()
     assert "paper M (reported" in lines[2] and "| 70.0 |" in lines[2]
     assert lines[3].startswith("| analytic | yes | 50.0 | 15.00 | -25.0 | yes | 11.00 (fell) |")
     assert "| 0.50 (fell) |" in lines[3] and "| 0.40 |" in lines[4] and "| 2.75 |" in lines[4]
-    readme = format_readme({**results, "rows": rows, "goals": goal_checks(rows),
-                            "figures": ["push_polar.png"]})
+    readme = format_readme(
+        {**results, "rows": rows, "goals": goal_checks(rows), "figures": ["push_polar.png"]}
+    )
     assert table in readme and "**met**: mpc, impulse >= 2 x analytic (2.75)" in readme
     assert "skipped `mpc-steps`: no generator 'mpc-steps'" in readme
     assert "| mpc | 0.325 | 0.200 |" in readme and "![push_polar.png](push_polar.png)" in readme
@@ -274,17 +354,23 @@ def test_config_file_matches_the_defaults_and_quick_is_smaller():
 def test_config_file_errors_name_the_key(tmp_path):
     path = tmp_path / "bad.toml"
     path.write_text("[push_sweep]\nimpulses = [1.0]\n")
-    with pytest.raises(ConfigurationError, match=r"Unknown key\(s\) \['impulses'\] in "
-                                                 r"\[push_sweep\]"):
+    with pytest.raises(
+        ConfigurationError,
+        match=r"Unknown key\(s\) \['impulses'\] in "
+        r"\[push_sweep\]",
+    ):
         load_config(path)
 
 
 def test_controller_availability_names_what_is_missing():
-    reasons = controller_availability({
-        "ok": {"generator": "analytic", "feedback": False, "stabilizer": None},
-        "no-gen": {"generator": "teleport", "feedback": True},
-        "no-arg": {"generator": "mpc", "levitate": 1.0},
-        "no-stab": {"generator": "mpc", "stabilizer": "magic"}})
+    reasons = controller_availability(
+        {
+            "ok": {"generator": "analytic", "feedback": False, "stabilizer": None},
+            "no-gen": {"generator": "teleport", "feedback": True},
+            "no-arg": {"generator": "mpc", "levitate": 1.0},
+            "no-stab": {"generator": "mpc", "stabilizer": "magic"},
+        }
+    )
     assert reasons["ok"] is None
     assert reasons["no-gen"] == "no generator 'teleport'"
     assert reasons["no-arg"] == "run_walk has no argument(s) ['levitate']"
@@ -304,19 +390,38 @@ def test_run_tasks_keeps_the_order_in_processes():
 
 def test_runner_writes_table_json_and_figures(tmp_path):
     """The one command on a tiny grid: one controller, one push cell, a short turning walk."""
-    spec = importlib.util.spec_from_file_location("paper_m_run",
-                                                  ROOT / "experiments" / "paper_m" / "run.py")
+    spec = importlib.util.spec_from_file_location(
+        "paper_m_run", ROOT / "experiments" / "paper_m" / "run.py"
+    )
     run = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(run)
     config = tmp_path / "tiny.toml"
     config.write_text(
         "[turning]\nwalking_duration = 1.5\n"
         "[push_sweep]\ndirections_deg = [90.0]\nphases = ['ss-mid']\ntolerance = 0.1\n"
-        "relative_tolerance = 0.5\n")
+        "relative_tolerance = 0.5\n"
+    )
     out = tmp_path / "out"
-    assert run.main(["--out", str(out), "--quick", "--config", str(config), "--controllers",
-                     "analytic", "--experiments", "turning", "push", "--workers", "1",
-                     "--no-progress"]) == 0
+    assert (
+        run.main(
+            [
+                "--out",
+                str(out),
+                "--quick",
+                "--config",
+                str(config),
+                "--controllers",
+                "analytic",
+                "--experiments",
+                "turning",
+                "push",
+                "--workers",
+                "1",
+                "--no-progress",
+            ]
+        )
+        == 0
+    )
     results = json.loads((out / "results.json").read_text())
     assert results["mode"] == "quick" and list(results["controllers"]) == ["analytic"]
     assert len(results["push_sweep"]["cases"]) == 1
@@ -325,6 +430,10 @@ def test_runner_writes_table_json_and_figures(tmp_path):
     assert row["turning_yaw_deg"] is None  # 1.5 s of walking: no yaw after 3.5 s
     readme = (out / "README.md").read_text()
     assert "| analytic |" in readme and "--quick" in readme
-    for name in ("turning_top_analytic.png", "turning_attitude.png", "push_polar.png",
-                 "push_heatmap.png"):
+    for name in (
+        "turning_top_analytic.png",
+        "turning_attitude.png",
+        "push_polar.png",
+        "push_heatmap.png",
+    ):
         assert (out / name).stat().st_size > 1000

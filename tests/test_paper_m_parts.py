@@ -8,18 +8,18 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from mpcwalk.controller import WalkingController
+from mpcwalk.control.controller import WalkingController
+from mpcwalk.control.stabilizers import make_stabilizer
+from mpcwalk.control.stabilizers.gyro import PAPER_M_GAINS, GyroStabilizer, heading_rates
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import FootGeometry, FootstepPlan
 from mpcwalk.gait.arm_swing import ArmSwing
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators import make_generator
 from mpcwalk.models.lipm import LIPM
-from mpcwalk.robots import load_robot
-from mpcwalk.stabilizers import make_stabilizer
-from mpcwalk.stabilizers.gyro import PAPER_M_GAINS, GyroStabilizer, heading_rates
-from mpcwalk.walk import plan_walk_footsteps
-from mpcwalk.walk_report import _attitude_metrics, yaw_deviation_deg
+from mpcwalk.robot.loading import load_robot
+from mpcwalk.walking.report import _attitude_metrics, yaw_deviation_deg
+from mpcwalk.walking.runner import plan_walk_footsteps
 
 _ROBOTS = {}
 
@@ -88,8 +88,13 @@ def test_gyro_offsets_are_paper_m_gains_times_rates_on_the_small_humanoid():
         assert offsets[names.index(f"{side}_hip_pitch")] == pytest.approx(0.01 * -0.2)
         assert offsets[names.index(f"{side}_knee")] == pytest.approx(0.01 * -0.2)
         assert offsets[names.index(f"{side}_foot_pitch")] == pytest.approx(0.02 * -0.2)
-    assert PAPER_M_GAINS == {"hip_roll": 0.01, "hip_pitch": 0.01, "knee": 0.01,
-                             "foot_pitch": 0.02, "foot_roll": 0.05}
+    assert PAPER_M_GAINS == {
+        "hip_roll": 0.01,
+        "hip_pitch": 0.01,
+        "knee": 0.01,
+        "foot_pitch": 0.02,
+        "foot_roll": 0.05,
+    }
 
 
 def test_gyro_adds_offsets_to_the_servo_targets_from_the_imu():
@@ -122,11 +127,14 @@ def test_heading_rates_do_not_depend_on_yaw_or_an_upside_down_imu():
         assert np.allclose(heading_rates(mount.T @ omega_body, wxyz), omega_body[:2])
 
 
-@pytest.mark.parametrize("options, message", [
-    ({"knee": -0.01}, "knee must be a non-negative"),
-    ({"foot_roll": float("nan")}, "foot_roll must be a non-negative"),
-    ({"max_offset": "big"}, "max_offset must be a non-negative"),
-])
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        ({"knee": -0.01}, "knee must be a non-negative"),
+        ({"foot_roll": float("nan")}, "foot_roll must be a non-negative"),
+        ({"max_offset": "big"}, "max_offset must be a non-negative"),
+    ],
+)
 def test_gyro_bad_gains_are_named_errors(options, message):
     with pytest.raises(ConfigurationError, match=message):
         GyroStabilizer(**options)
@@ -170,8 +178,10 @@ def test_arm_swing_moves_each_hand_with_the_opposite_foot():
     yaw = 0.7
     c, s = math.cos(yaw), math.sin(yaw)
     turn = np.array([[c, -s], [s, c]])
-    assert np.allclose(swing.joint_angles(com, turn @ left, turn @ right, yaw),
-                       swing.joint_angles(com, left, right, 0.0))
+    assert np.allclose(
+        swing.joint_angles(com, turn @ left, turn @ right, yaw),
+        swing.joint_angles(com, left, right, 0.0),
+    )
     # standing: nominal posture
     assert np.allclose(swing.joint_angles(com, [0, 0.04], [0, -0.04], 0.0), swing.nominal)
 
@@ -203,8 +213,9 @@ def test_controller_follows_a_schedule_with_a_moved_footstep():
     plan = schedule.plan
     moved_steps = list(plan.steps)
     moved_steps[1] = moved_steps[1].moved(position=moved_steps[1].position + [0.02, 0.01, 0.0])
-    moved = ContactSchedule(FootstepPlan(plan.initial_left, plan.initial_right, moved_steps,
-                                         plan.timing), schedule.foot)
+    moved = ContactSchedule(
+        FootstepPlan(plan.initial_left, plan.initial_right, moved_steps, plan.timing), schedule.foot
+    )
     generator = make_generator("analytic", lipm=LIPM(com_height=robot.com_height))
     controller = WalkingController(robot, generator, schedule)
     controller.reset()
@@ -219,8 +230,11 @@ def test_controller_follows_a_schedule_with_a_moved_footstep():
     after = controller.step().feet
     travelled = np.linalg.norm(after[side].position - before[side].position)
     assert travelled < 0.01 * 1.5 + 0.005  # at most a tick of swing speed (< 1.5 m/s)
-    jump = np.linalg.norm(after[side].position[:2] - before[side].position[:2]
-                          - 0.01 * before[side].linear_velocity[:2])
+    jump = np.linalg.norm(
+        after[side].position[:2]
+        - before[side].position[:2]
+        - 0.01 * before[side].linear_velocity[:2]
+    )
     assert jump < 0.003
     landing = schedule.walk_start + 2.0 * schedule.step_duration
     while controller.time < landing - 1e-9:
@@ -270,12 +284,21 @@ def test_yaw_deviation_counts_after_the_push_only():
 def test_gyro_stabilizer_keeps_the_open_loop_closed_form_walking():
     """Paper M's gait without any CoM feedback: its sway grows until it falls after about 6 s
     of walking; the gyro stabilizer damps it and the walk ends standing."""
-    from mpcwalk.walk import run_walk
+    from mpcwalk.walking.runner import run_walk
 
     robot = get_robot("bioloid-like")
-    runs = {name: run_walk(robot, "analytic", command=(0.1, 0.0, 0.0), duration=6.0,
-                           feedback=False, stabilizer=name, progress=False).metrics
-            for name in ("none", "gyro")}
+    runs = {
+        name: run_walk(
+            robot,
+            "analytic",
+            command=(0.1, 0.0, 0.0),
+            duration=6.0,
+            feedback=False,
+            stabilizer=name,
+            progress=False,
+        ).metrics
+        for name in ("none", "gyro")
+    }
     assert runs["none"]["fell"]
     assert not runs["gyro"]["fell"], runs["gyro"]["fall_reason"]
     assert runs["gyro"]["roll_max_deg"] < 10.0
@@ -286,10 +309,28 @@ def test_walk_command_with_paper_m_options_reports_attitude_and_yaw_deviation(tm
 
     from mpcwalk.cli import main as cli_main
 
-    code = cli_main(["walk", "--robot", "bioloid-like", "--generator", "analytic",
-                     "--duration", "3", "--stabilizer", "gyro", "--arm-swing", "0.8",
-                     "--push", "0,0.1,0,5,0", "--push", "2.0,0.05,10,5,0", "--no-progress",
-                     "--out", str(tmp_path)])
+    code = cli_main(
+        [
+            "walk",
+            "--robot",
+            "bioloid-like",
+            "--generator",
+            "analytic",
+            "--duration",
+            "3",
+            "--stabilizer",
+            "gyro",
+            "--arm-swing",
+            "0.8",
+            "--push",
+            "0,0.1,0,5,0",
+            "--push",
+            "2.0,0.05,10,5,0",
+            "--no-progress",
+            "--out",
+            str(tmp_path),
+        ]
+    )
     assert code == 0, capsys.readouterr().out
     metrics = json.loads((tmp_path / "metrics.json").read_text())
     assert metrics["stabilizer"] == "gyro" and metrics["arm_swing"] == 0.8

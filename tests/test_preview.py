@@ -2,22 +2,20 @@
 
 import numpy as np
 import pytest
+from plans import arc_schedule
 
 from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.gait.support_margins import support_margins
 from mpcwalk.generators import ComState, make_generator, rollout
 from mpcwalk.generators.preview import PreviewGenerator, compute_preview_gains
-from mpcwalk.metrics import support_margins
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.lipm import LIPM
-from plans import arc_schedule
 
 COMMANDS = {  # torso displacement per step (dx [m], dy [m], dyaw [rad]) at T = 0.5 s
     "straight": (0.05, 0.0, 0.0),  # 0.1 m/s
     "turning": (0.05, 0.0, np.deg2rad(10.0)),  # 0.1 m/s, 20 deg/s
     "sideways": (0.0, 0.05, 0.0),  # 0.1 m/s to the left
 }
-
-
 
 
 @pytest.mark.parametrize("period, state_weight", [(0.01, 0.0), (0.01, 1e-3), (0.005, 0.0)])
@@ -27,8 +25,9 @@ def test_plain_gains_equal_brute_force_finite_horizon(period, state_weight):
     x^T (P - Qe C^T C - Qx) x."""
     model = CartTable(LIPM(0.23), period)
     N, Qe, R = int(round(1.6 / period)), 1.0, 1e-6
-    gains = compute_preview_gains(model, N, zmp_weight=Qe, jerk_weight=R,
-                                  state_weight=state_weight, integral_action=False)
+    gains = compute_preview_gains(
+        model, N, zmp_weight=Qe, jerk_weight=R, state_weight=state_weight, integral_action=False
+    )
     mats = model.prediction_matrices(N)
     Xs = np.stack([mats["Pps"], mats["Pvs"], mats["Pas"]], axis=1)  # (N, 3, 3)
     Xu = np.stack([mats["Ppu"], mats["Pvu"], mats["Pau"]], axis=1)  # (N, 3, N)
@@ -88,7 +87,9 @@ def test_tracks_reference_on_straight_ten_steps():
     err = np.abs(out.zmp - schedule.zmp_reference(out.times)).max()
     assert err < 0.01  # measured 0.0068 m
     assert support_margins(schedule, out.times, out.zmp).min() > 0.02  # measured 0.0233 m
-    np.testing.assert_allclose(out.com[-1], schedule.torso_waypoints[-1], atol=1e-4)  # measured 2.3e-5
+    np.testing.assert_allclose(
+        out.com[-1], schedule.torso_waypoints[-1], atol=1e-4
+    )  # measured 2.3e-5
     # Finer control and sampling period: measured 0.0045 m.
     fine = rollout(PreviewGenerator(control_period=0.005), schedule)
     assert np.abs(fine.zmp - schedule.zmp_reference(fine.times)).max() < 0.006
@@ -119,7 +120,11 @@ def test_zmp_inside_polygon_on_twenty_steps(command, integral_action):
 
 def test_feedback_with_own_output_equals_open_loop():
     schedule = arc_schedule(COMMANDS["turning"], 6)
-    for kwargs in ({}, {"integral_action": False}, {"control_period": 0.005, "sampling_period": 0.01}):
+    for kwargs in (
+        {},
+        {"integral_action": False},
+        {"control_period": 0.005, "sampling_period": 0.01},
+    ):
         open_loop = rollout(PreviewGenerator(**kwargs), schedule)
         closed = rollout(PreviewGenerator(**kwargs), schedule, feedback=True)
         assert np.abs(closed.com - open_loop.com).max() < 1e-9
@@ -166,18 +171,21 @@ def test_horizon_predicts_the_closed_loop():
         o = gen.step()
     h = o.horizon
     assert len(h.times) == 160
-    np.testing.assert_allclose(h.times, out.times[k + 1: k + 161])
-    assert np.abs(h.com - out.com[k + 1: k + 161]).max() < 1e-9
+    np.testing.assert_allclose(h.times, out.times[k + 1 : k + 161])
+    assert np.abs(h.com - out.com[k + 1 : k + 161]).max() < 1e-9
     np.testing.assert_allclose(h.zmp, schedule.zmp_reference(h.times))
     assert PreviewGenerator(predict_horizon=False).reset(schedule).horizon is None
 
 
-@pytest.mark.parametrize("kwargs, match", [
-    ({"sampling_period": 0.015}, "integer multiple"),
-    ({"preview_time": 0.0}, "preview_time"),
-    ({"jerk_weight": 0.0}, "positive"),
-    ({"state_weight": -1.0}, "state_weight"),
-])
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"sampling_period": 0.015}, "integer multiple"),
+        ({"preview_time": 0.0}, "preview_time"),
+        ({"jerk_weight": 0.0}, "positive"),
+        ({"state_weight": -1.0}, "state_weight"),
+    ],
+)
 def test_bad_parameters(kwargs, match):
     with pytest.raises(ConfigurationError, match=match):
         make_generator("preview", **kwargs)

@@ -14,28 +14,41 @@ from mpcwalk.generators.mpc import MpcGenerator
 from mpcwalk.generators.static_qp import StaticQPGenerator
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp import QPResult, WalkingQP, make_solver, solver_names
-from mpcwalk.qp.casadi_solver import available_plugins
-from mpcwalk.qp.solvers import DEFINITE_SOLVERS
+from mpcwalk.qp.solvers.casadi_qp import available_plugins
+from mpcwalk.qp.solvers.registry import DEFINITE_SOLVERS
 
 
 def straight_schedule(step_duration, r_ds, nb_steps=6, stride=0.05):
     """Straight walk, feet 0.08 m apart, ``stride`` [m] of torso per step."""
     left, right = Footstep(Side.LEFT, [0.0, 0.04]), Footstep(Side.RIGHT, [0.0, -0.04])
-    steps = [Footstep(Side.RIGHT if k % 2 == 0 else Side.LEFT,
-                      [stride * (k + 1), -0.04 if k % 2 == 0 else 0.04]) for k in range(nb_steps)]
+    steps = [
+        Footstep(
+            Side.RIGHT if k % 2 == 0 else Side.LEFT,
+            [stride * (k + 1), -0.04 if k % 2 == 0 else 0.04],
+        )
+        for k in range(nb_steps)
+    ]
     return ContactSchedule(FootstepPlan(left, right, steps, StepTiming(step_duration, r_ds)))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def walking_case(kind):
     """``(parameters, schedule, t, x0)``: the state of a walk at ``t`` pushed
     sideways, so that a few support-polygon constraints are active."""
     if kind == "mpc":
-        generator, schedule, t, push = MpcGenerator(solver="daqp"), \
-            straight_schedule(0.5, 0.2), 1.6, 0.15
+        generator, schedule, t, push = (
+            MpcGenerator(solver="daqp"),
+            straight_schedule(0.5, 0.2),
+            1.6,
+            0.15,
+        )
     else:
-        generator, schedule, t, push = StaticQPGenerator(solver="daqp"), \
-            straight_schedule(4.0, 0.5, stride=0.1), 5.63, 0.2
+        generator, schedule, t, push = (
+            StaticQPGenerator(solver="daqp"),
+            straight_schedule(4.0, 0.5, stride=0.1),
+            5.63,
+            0.2,
+        )
     out = generator.reset(schedule)
     while generator.time < t - 1e-9:
         out = generator.step()
@@ -51,7 +64,7 @@ def build(kind, formulation):
     return qp
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def reference(kind):
     """High-accuracy reference (quadprog, dense): predicted CoM and ZMP [m]."""
     qp = build(kind, "dense")
@@ -84,13 +97,15 @@ TOLERANCES = {
     "proxqp": (1e-8, 1e-8, 1e-6, 1e-6),
     "qtqp": (1e-8, 1e-8, 1e-6, 5e-6),
 }
-_JAX = ("runs in JAX float32 unless jax_enable_x64 is set process-wide (a global switch "
-        "a test must not flip); in float32 it returns 'not found' on these QPs (checked, "
-        "jaxopt_osqp at tol=1e-6), after a JIT compilation of ~2 s")
+_JAX = (
+    "runs in JAX float32 unless jax_enable_x64 is set process-wide (a global switch "
+    "a test must not flip); in float32 it returns 'not found' on these QPs (checked, "
+    "jaxopt_osqp at tol=1e-6), after a JIT compilation of ~2 s"
+)
 SKIP = {"qpax": f"qpax {_JAX}", "jaxopt_osqp": f"jaxopt_osqp {_JAX}"}
 SKIP_SPARSE = {
     "highs": "HiGHS's QP solver ends with 'Solve error' on the sparse layout (its own KKT "
-             "check finds ~1e-4 infeasibilities in the dynamics rows; checked on both QPs)",
+    "check finds ~1e-4 infeasibilities in the dynamics rows; checked on both QPs)",
 }
 
 
@@ -126,8 +141,10 @@ def test_qpsolvers_backend(solver, kind, formulation):
     if solver in SKIP:
         pytest.skip(SKIP[solver])
     if formulation == "sparse" and solver in DEFINITE_SOLVERS:
-        pytest.skip(f"{solver} needs a positive definite P (at its default settings); the "
-                    "sparse layout's P is only semidefinite")
+        pytest.skip(
+            f"{solver} needs a positive definite P (at its default settings); the "
+            "sparse layout's P is only semidefinite"
+        )
     if formulation == "sparse" and solver in SKIP_SPARSE:
         pytest.skip(SKIP_SPARSE[solver])
     qp = build(kind, formulation)
@@ -159,8 +176,10 @@ CASADI = [p for p in ("qpoases", "osqp", "qrqp", "proxqp", "daqp") if p in avail
 @pytest.mark.parametrize("plugin", CASADI)
 def test_casadi_matches_the_reference(plugin, kind, formulation):
     if plugin == "daqp" and formulation == "sparse":
-        pytest.skip("DAQP needs a positive definite P (at its default settings); the sparse "
-                    "layout's P is only semidefinite")
+        pytest.skip(
+            "DAQP needs a positive definite P (at its default settings); the sparse "
+            "layout's P is only semidefinite"
+        )
     qp = build(kind, formulation)
     result = make_solver(f"casadi-{plugin}").solve(qp)
     if plugin in ("osqp", "proxqp"):  # first-order / proximal: 1e-8 stopping tolerance
@@ -188,8 +207,10 @@ def test_kkt_solver_is_exact_without_constraints():
 
 
 def test_unknown_solver_lists_the_available_ones():
-    with pytest.raises(SolverNotFound, match="'gurobo' is not available; the available solvers "
-                                             "are osqp-direct, kkt.*quadprog"):
+    with pytest.raises(
+        SolverNotFound,
+        match="'gurobo' is not available; the available solvers are osqp-direct, kkt.*quadprog",
+    ):
         make_solver("gurobo")
     with pytest.raises(SolverNotFound, match="casadi-cplx"):
         make_solver("casadi-cplx")

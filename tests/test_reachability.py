@@ -7,7 +7,11 @@ from mpcwalk.exceptions import ConfigurationError, InfeasibleStep
 from mpcwalk.footsteps.footstep import Footstep, Side
 from mpcwalk.footsteps.path_follower import PathFollower
 from mpcwalk.footsteps.reachability import (
-    ATLAS_REACHABILITY, SMALL_HUMANOID_REACHABILITY, ReachabilityRectangle, opening_side)
+    ATLAS_REACHABILITY,
+    SMALL_HUMANOID_REACHABILITY,
+    ReachabilityRectangle,
+    opening_side,
+)
 from mpcwalk.footsteps.velocity_planner import LegLimits
 
 RECT = ATLAS_REACHABILITY  # x [-0.15, 0.30], y [0.18, 0.40], yaw [-0.4, 0.4]
@@ -43,7 +47,9 @@ def test_outside_is_clamped_to_the_nearest_point_with_the_remainder():
 
 def test_clamp_is_the_nearest_point_of_the_rectangle():
     rng = np.random.default_rng(0)
-    grid = np.stack(np.meshgrid(np.linspace(-0.15, 0.30, 46), np.linspace(-0.40, -0.18, 23)), -1).reshape(-1, 2)
+    grid = np.stack(
+        np.meshgrid(np.linspace(-0.15, 0.30, 46), np.linspace(-0.40, -0.18, 23)), -1
+    ).reshape(-1, 2)
     for target in rng.uniform(-1.0, 1.0, size=(50, 2)):
         clamped = RECT.clamp(target, 0.0, Side.RIGHT).xy
         assert RECT.contains(clamped, 0.0, Side.RIGHT)
@@ -73,16 +79,23 @@ def test_remainder_is_carried_so_the_next_step_of_that_foot_ends_on_target():
 
 
 def test_measured_drift_does_not_accumulate():
-    targets = [Footstep(Side.RIGHT if k % 2 == 0 else Side.LEFT, [0.2 * (k + 1), -0.12 if k % 2 == 0 else 0.12, 0.0])
-               for k in range(6)]
+    targets = [
+        Footstep(
+            Side.RIGHT if k % 2 == 0 else Side.LEFT,
+            [0.2 * (k + 1), -0.12 if k % 2 == 0 else 0.12, 0.0],
+        )
+        for k in range(6)
+    ]
     follower = PathFollower(LEFT0, RIGHT0, targets, RECT)
     feet = {Side.LEFT: LEFT0, Side.RIGHT: RIGHT0}
     rng = np.random.default_rng(1)
     for k in range(6):
         side = follower.next_swing_side
         # the measured support foot slipped by up to 3 cm and 3 deg
-        measured = feet[side.other].moved(position=feet[side.other].position + [*rng.uniform(-0.03, 0.03, 2), 0.0],
-                                          yaw=feet[side.other].yaw + rng.uniform(-0.05, 0.05))
+        measured = feet[side.other].moved(
+            position=feet[side.other].position + [*rng.uniform(-0.03, 0.03, 2), 0.0],
+            yaw=feet[side.other].yaw + rng.uniform(-0.05, 0.05),
+        )
         landing = follower.next_step(measured, feet[side])
         np.testing.assert_allclose(landing.xy, targets[k].xy, atol=1e-12)  # aims at the file pose
         assert landing.yaw == pytest.approx(targets[k].yaw, abs=1e-12)
@@ -93,12 +106,18 @@ def test_measured_drift_does_not_accumulate():
 
 def test_unreachable_target_raises_naming_the_step_and_the_limit():
     targets = [Footstep(Side.LEFT, [0.0, 1.12, 0.0])]  # 1.24 m lateral, limit 0.40 m
-    follower = PathFollower(LEFT0, RIGHT0, targets, RECT, labels=["waypoint 1 (line 7)"], max_extra_steps=10)
-    with pytest.raises(InfeasibleStep, match=r"waypoint 1 \(line 7\).*y = 1\.24 m above its limit 0\.4 m") as info:
+    follower = PathFollower(
+        LEFT0, RIGHT0, targets, RECT, labels=["waypoint 1 (line 7)"], max_extra_steps=10
+    )
+    with pytest.raises(
+        InfeasibleStep, match=r"waypoint 1 \(line 7\).*y = 1\.24 m above its limit 0\.4 m"
+    ) as info:
         follower.plan()
     assert "after 10 extra steps" in str(info.value)
     # a far forward target is approached but not within the bound either
-    far = PathFollower(LEFT0, RIGHT0, [Footstep(Side.RIGHT, [5.0, -0.12, 0.0])], RECT, max_extra_steps=6)
+    far = PathFollower(
+        LEFT0, RIGHT0, [Footstep(Side.RIGHT, [5.0, -0.12, 0.0])], RECT, max_extra_steps=6
+    )
     with pytest.raises(InfeasibleStep, match=r"target 0.*x = .* above its limit 0\.3 m"):
         far.plan()
 

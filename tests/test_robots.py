@@ -7,9 +7,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from mpcwalk import robots
 from mpcwalk.exceptions import ConfigurationError, MpcwalkError
-from mpcwalk.robots import FrameNotFound, Robot, RobotNotFound, load_robot, robot_names
+from mpcwalk.robot import loading as robots
+from mpcwalk.robot.loading import FrameNotFound, Robot, RobotNotFound, load_robot, robot_names
 
 NAMES = robot_names()
 TOLERANCE = 1e-9
@@ -51,9 +51,10 @@ def test_soles_frames_and_com_agree_for_random_configurations(name):
     robot = get_robot(name)
     rng = np.random.default_rng(42)
     body_frames = [
-        f.name for f in robot.model.frames
-        if f.type == pin.FrameType.BODY and mujoco.mj_name2id(
-            robot.mj_model, mujoco.mjtObj.mjOBJ_BODY, f.name) >= 0
+        f.name
+        for f in robot.model.frames
+        if f.type == pin.FrameType.BODY
+        and mujoco.mj_name2id(robot.mj_model, mujoco.mjtObj.mjOBJ_BODY, f.name) >= 0
     ]
     assert len(body_frames) >= len(robot.joint_names)
     for _ in range(10):
@@ -113,11 +114,13 @@ def test_state_conversions_round_trip_and_match_site_velocities(name):
     mujoco.mj_forward(robot.mj_model, data)
     frame = robot.foot_frames[0]
     velocity = np.zeros(6)  # MuJoCo: (angular, linear) in the world frame, at the site
-    mujoco.mj_objectVelocity(robot.mj_model, data, mujoco.mjtObj.mjOBJ_SITE,
-                             robot.mj_model.site(frame).id, velocity, 0)
+    mujoco.mj_objectVelocity(
+        robot.mj_model, data, mujoco.mjtObj.mjOBJ_SITE, robot.mj_model.site(frame).id, velocity, 0
+    )
     pin.forwardKinematics(robot.model, robot.data, q, v)
-    expected = pin.getFrameVelocity(robot.model, robot.data, robot.frame_id(frame),
-                                    pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
+    expected = pin.getFrameVelocity(
+        robot.model, robot.data, robot.frame_id(frame), pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+    )
     np.testing.assert_allclose(velocity[3:], expected.linear, atol=1e-9)
     np.testing.assert_allclose(velocity[:3], expected.angular, atol=1e-9)
 
@@ -157,11 +160,21 @@ def test_look_alikes_match_their_published_figures():
 @pytest.mark.parametrize("name", NAMES)
 def test_only_the_feet_touch_the_floor(name):
     model = get_robot(name).mj_model
-    colliding = {model.geom(g).name for g in range(model.ngeom)
-                 if model.geom_contype[g] or model.geom_conaffinity[g]}
+    colliding = {
+        model.geom(g).name
+        for g in range(model.ngeom)
+        if model.geom_contype[g] or model.geom_conaffinity[g]
+    }
     assert colliding == {"floor", "left_sole_box", "right_sole_box"}
-    for sensor in ("imu_gyro", "imu_accelerometer", "imu_orientation", "left_foot_force",
-                   "right_foot_torque", "left_foot_touch", "right_foot_touch"):
+    for sensor in (
+        "imu_gyro",
+        "imu_accelerometer",
+        "imu_orientation",
+        "left_foot_force",
+        "right_foot_torque",
+        "left_foot_touch",
+        "right_foot_touch",
+    ):
         assert model.sensor(sensor).id >= 0
 
 
@@ -183,8 +196,9 @@ def test_g1_with_meshes_has_the_same_kinematics():
     with_meshes, without = load_robot("g1"), get_robot("g1")
     assert with_meshes.mj_model.nmesh > 0 and without.mj_model.nmesh == 0
     q = random_configuration(without, np.random.default_rng(1))
-    np.testing.assert_allclose(mujoco_at(with_meshes, q).site_xpos,
-                               mujoco_at(without, q).site_xpos, atol=1e-12)
+    np.testing.assert_allclose(
+        mujoco_at(with_meshes, q).site_xpos, mujoco_at(without, q).site_xpos, atol=1e-12
+    )
 
 
 def test_unknown_robot_lists_the_available_ones():
@@ -209,22 +223,25 @@ def _patched_preset(monkeypatch, tmp_path, source: str, old: str, new: str) -> s
 
 
 def test_preset_with_a_missing_sole_site_raises_frame_not_found(monkeypatch, tmp_path):
-    name = _patched_preset(monkeypatch, tmp_path, "bioloid_like.toml",
-                           'left = "left_sole"', 'left = "left_toe"')
+    name = _patched_preset(
+        monkeypatch, tmp_path, "bioloid_like.toml", 'left = "left_sole"', 'left = "left_toe"'
+    )
     with pytest.raises(FrameNotFound, match=r"'left_toe'.*right_sole"):
         load_robot(name)
 
 
 def test_preset_with_a_missing_foot_link_raises_frame_not_found(monkeypatch, tmp_path):
-    name = _patched_preset(monkeypatch, tmp_path, "g1.toml",
-                           'left = "left_ankle_roll_link"', 'left = "left_toe_link"')
+    name = _patched_preset(
+        monkeypatch, tmp_path, "g1.toml", 'left = "left_ankle_roll_link"', 'left = "left_toe_link"'
+    )
     with pytest.raises(FrameNotFound, match=r"'left_toe_link'.*right_ankle_roll_link"):
         load_robot(name, visual=False)
 
 
 def test_preset_errors_are_configuration_errors(monkeypatch, tmp_path):
-    name = _patched_preset(monkeypatch, tmp_path, "bioloid_like.toml",
-                           "left_knee = 0.76", "left_kneee = 0.76")
+    name = _patched_preset(
+        monkeypatch, tmp_path, "bioloid_like.toml", "left_knee = 0.76", "left_kneee = 0.76"
+    )
     with pytest.raises(ConfigurationError, match=r"joint 'left_kneee'.*left_knee"):
         load_robot(name)
     (tmp_path / "broken.toml").write_text('name = "broken"\nformat = "mjcf"\n')

@@ -6,8 +6,7 @@ import pytest
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.models.support_polygon import SupportPolygon, foot_rectangle
-from mpcwalk.robots import load_robot, robot_names
-from mpcwalk.sim import rendering
+from mpcwalk.robot.loading import load_robot, robot_names
 from mpcwalk.sim import (
     ExternalForce,
     FallDetector,
@@ -20,6 +19,7 @@ from mpcwalk.sim import (
     VideoRecorder,
     parse_push,
     quaternion_to_rpy,
+    rendering,
 )
 
 NAMES = robot_names()
@@ -40,8 +40,10 @@ def weight(robot) -> float:
 
 def support_polygon(state, robot) -> SupportPolygon:
     """Convex hull of both soles at their measured poses."""
-    feet = [foot_rectangle(position, yaw, *robot.sole_size)
-            for position, yaw in zip(state.sole_positions, state.sole_yaws)]
+    feet = [
+        foot_rectangle(position, yaw, *robot.sole_size)
+        for position, yaw in zip(state.sole_positions, state.sole_yaws)
+    ]
     return SupportPolygon.union_hull(feet)
 
 
@@ -86,8 +88,9 @@ def test_robot_stands_with_cop_inside_both_feet_and_weight_on_the_soles(name):
     mean = sum(f.normal_force * f.cop for f in feet) / sum(f.normal_force for f in feet)
     np.testing.assert_allclose(measurements.cop, mean, atol=1e-12)
     for side, foot in enumerate(feet):
-        assert foot_rectangle(state.sole_positions[side], state.sole_yaws[side],
-                              *robot.sole_size).contains(foot.cop[:2])
+        assert foot_rectangle(
+            state.sole_positions[side], state.sole_yaws[side], *robot.sole_size
+        ).contains(foot.cop[:2])
         # what a 6-axis sensor at the sole origin would compute from the wrench
         origin, (tau_x, tau_y, _) = state.sole_positions[side], foot.torque
         cop_from_wrench = origin[:2] + np.array([-tau_y, tau_x]) / foot.normal_force
@@ -165,9 +168,9 @@ def test_cop_under_a_steady_push_matches_the_static_moment_balance():
 def test_large_push_triggers_the_fall_detector(name):
     robot = get_robot(name)
     detector = FallDetector.for_robot(robot)
-    sim = Simulation(robot, disturbances=[
-        ExternalForce(0.2, 0.3, [0.0, 0.5 * weight(robot), 0.0], body="base")
-    ])
+    sim = Simulation(
+        robot, disturbances=[ExternalForce(0.2, 0.3, [0.0, 0.5 * weight(robot), 0.0], body="base")]
+    )
     status = None
     for _ in range(200):
         status = detector.check(sim.step())
@@ -269,8 +272,10 @@ def test_imu_readings_and_sensor_noise():
     imu = state.measurements.imu
     assert np.linalg.norm(imu.accelerometer) == pytest.approx(9.81, rel=0.01)
     assert abs(imu.roll) < 0.05 and abs(imu.pitch) < 0.05
-    noisy = [Simulation(robot, seed=seed, sensor_noise=SensorNoise(0.01, 0.1, 0.001)).step()
-             for seed in (1, 1, 2)]
+    noisy = [
+        Simulation(robot, seed=seed, sensor_noise=SensorNoise(0.01, 0.1, 0.001)).step()
+        for seed in (1, 1, 2)
+    ]
     gyros = [s.measurements.imu.gyro for s in noisy]
     np.testing.assert_array_equal(gyros[0], gyros[1])
     assert not np.allclose(gyros[0], gyros[2])

@@ -2,12 +2,12 @@
 
 import numpy as np
 import pytest
+from plans import arc_schedule
 
 from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.gait.support_margins import support_margins
 from mpcwalk.generators import make_generator, rollout
 from mpcwalk.generators.static import StaticGenerator, quintic
-from mpcwalk.metrics import support_margins
-from plans import arc_schedule
 
 COMMANDS = {  # torso displacement per step (dx [m], dy [m], dyaw [rad])
     "straight": (0.05, 0.0, 0.0),  # 0.1 m/s at T = 0.5 s
@@ -15,8 +15,6 @@ COMMANDS = {  # torso displacement per step (dx [m], dy [m], dyaw [rad])
     "sideways": (0.0, 0.05, 0.0),
 }
 SLOW = dict(step_duration=4.0, r_ds=0.5)  # 2 s of double support per step
-
-
 
 
 def test_quintic_boundary_conditions_and_derivatives():
@@ -56,7 +54,9 @@ def test_com_over_support_foot_and_inside_polygon_when_slow(command):
     np.testing.assert_allclose(out.com[0], schedule.torso_waypoints[0], atol=1e-15)
     np.testing.assert_allclose(out.com[-1], schedule.torso_waypoints[-1], atol=1e-12)
     # ZMP of the LIPM.
-    np.testing.assert_allclose(out.zmp, out.com - out.com_acceleration / gen.lipm.omega**2, atol=1e-15)
+    np.testing.assert_allclose(
+        out.zmp, out.com - out.com_acceleration / gen.lipm.omega**2, atol=1e-15
+    )
 
 
 def test_shifts_are_quintic_between_the_support_feet():

@@ -4,12 +4,12 @@ import functools
 
 import numpy as np
 import pytest
+from plans import velocity_schedule as arc_schedule
 
 from mpcwalk.exceptions import NoSolutionFound
+from mpcwalk.gait.support_margins import support_margins
 from mpcwalk.generators import make_generator
 from mpcwalk.generators.static_qp import StaticQPGenerator
-from mpcwalk.metrics import support_margins
-from plans import velocity_schedule as arc_schedule
 
 SLOW = dict(step_duration=4.0, r_ds=0.5)  # paper A walks slowly (12 s per step)
 COMMANDS = {  # (vx [m/s], vy [m/s], yaw rate [rad/s]) at T = 4 s
@@ -19,9 +19,7 @@ COMMANDS = {  # (vx [m/s], vy [m/s], yaw rate [rad/s]) at T = 4 s
 }
 
 
-
-
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def slow_walk(name):
     schedule = arc_schedule(COMMANDS[name], **SLOW)
     generator = StaticQPGenerator()
@@ -37,19 +35,27 @@ def test_com_projection_keeps_its_margin_at_every_planned_sample(name, record_pr
     margin = generator.parameters.com_margin
     assert margin == 0.01
     assert all(o.solve.success for o in outs[1:])
-    planned_com = min(support_margins(schedule, o.horizon.times, o.horizon.com).min()
-                      for o in outs[1:])
-    planned_zmp = min(support_margins(schedule, o.horizon.times, o.horizon.zmp).min()
-                      for o in outs[1:])
+    planned_com = min(
+        support_margins(schedule, o.horizon.times, o.horizon.com).min() for o in outs[1:]
+    )
+    planned_zmp = min(
+        support_margins(schedule, o.horizon.times, o.horizon.zmp).min() for o in outs[1:]
+    )
     times = np.array([o.time for o in outs])
     executed_com = support_margins(schedule, times, np.array([o.com for o in outs])).min()
     executed_zmp = support_margins(schedule, times, np.array([o.zmp for o in outs])).min()
-    for key, value in (("planned_com", planned_com), ("planned_zmp", planned_zmp),
-                       ("executed_com", executed_com), ("executed_zmp", executed_zmp)):
+    for key, value in (
+        ("planned_com", planned_com),
+        ("planned_zmp", planned_zmp),
+        ("executed_com", executed_com),
+        ("executed_zmp", executed_zmp),
+    ):
         record_property(f"min_{key}_margin_m", value)
-    print(f"{name}: CoM margin planned {planned_com * 1e3:.2f} mm, executed "
-          f"{executed_com * 1e3:.2f} mm; ZMP planned {planned_zmp * 1e3:.2f} mm, executed "
-          f"{executed_zmp * 1e3:.2f} mm")
+    print(
+        f"{name}: CoM margin planned {planned_com * 1e3:.2f} mm, executed "
+        f"{executed_com * 1e3:.2f} mm; ZMP planned {planned_zmp * 1e3:.2f} mm, executed "
+        f"{executed_zmp * 1e3:.2f} mm"
+    )
     assert planned_com >= margin - 1e-6
     assert planned_zmp >= -1e-6
     # Between samples too (the CoM rows use the coming single-support foot).
@@ -59,7 +65,7 @@ def test_com_projection_keeps_its_margin_at_every_planned_sample(name, record_pr
 
 @pytest.mark.parametrize("name", COMMANDS)
 def test_com_is_over_the_support_foot_in_single_support_and_ends_at_rest(name):
-    schedule, generator, outs = slow_walk(name)
+    schedule, _generator, outs = slow_walk(name)
     times = np.array([o.time for o in outs])
     com = np.array([o.com for o in outs])
     single = schedule.is_single_support(times)

@@ -9,8 +9,9 @@ from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.swing_foot import FeetState, SwingFootTrajectory
 
 Z_STEP = 0.04  # [m] paper M, Table 1
-TIMING = StepTiming(step_duration=0.5, double_support_ratio=0.2, initial_duration=0.5,
-                    final_duration=0.5)
+TIMING = StepTiming(
+    step_duration=0.5, double_support_ratio=0.2, initial_duration=0.5, final_duration=0.5
+)
 T, T_B, T_E = 0.5, 0.05, 0.45  # [s]
 WALK_START = 0.5  # [s]
 
@@ -21,8 +22,12 @@ def make_plan(left_yaw=0.0, right_yaw=0.0, step_yaws=(0.2, 0.4, 0.6)):
         Footstep(Side.LEFT, (0.20, 0.05, 0.00), step_yaws[1]),
         Footstep(Side.RIGHT, (0.30, -0.05, 0.02), step_yaws[2]),  # onto a 2 cm platform
     )
-    return FootstepPlan(Footstep(Side.LEFT, (0.0, 0.05, 0.0), left_yaw),
-                        Footstep(Side.RIGHT, (0.0, -0.05, 0.0), right_yaw), steps, TIMING)
+    return FootstepPlan(
+        Footstep(Side.LEFT, (0.0, 0.05, 0.0), left_yaw),
+        Footstep(Side.RIGHT, (0.0, -0.05, 0.0), right_yaw),
+        steps,
+        TIMING,
+    )
 
 
 @pytest.fixture(scope="module")
@@ -89,10 +94,12 @@ def test_peak_height_at_mid_single_support_and_fixed_stance(trajectory, k):
     mid = trajectory.foot_poses(t0 + 0.5 * (T_B + T_E))
     assert mid.swing_side is landing.side and mid.contact_sides == (landing.side.other,)
     assert mid[landing.side].position[2] == pytest.approx(ground_mid + Z_STEP, abs=1e-15)
-    np.testing.assert_allclose(mid[landing.side].position[:2],
-                               0.5 * (lift.xy + landing.xy), atol=1e-15)
+    np.testing.assert_allclose(
+        mid[landing.side].position[:2], 0.5 * (lift.xy + landing.xy), atol=1e-15
+    )
     assert mid[landing.side].linear_velocity[2] == pytest.approx(
-        np.pi / (T_E - T_B) * (landing.position[2] - lift.position[2]) * 0.5, abs=1e-14)
+        np.pi / (T_E - T_B) * (landing.position[2] - lift.position[2]) * 0.5, abs=1e-14
+    )
     heights, clearance = [], []
     for t in np.linspace(t0, t0 + T, 201):
         state = trajectory.foot_poses(t)
@@ -143,7 +150,9 @@ def test_torso_yaw_waypoints_and_double_support(trajectory):
         for t in np.linspace(t0 + T_E, t0 + T - 1e-9, 5):
             assert trajectory.torso_yaw(t) == pytest.approx(psi1, abs=1e-15)
             assert trajectory.torso_yaw_rate(t) == 0.0
-        assert trajectory.torso_yaw(t0 + 0.5 * (T_B + T_E)) == pytest.approx(0.5 * (psi0 + psi1), abs=1e-15)
+        assert trajectory.torso_yaw(t0 + 0.5 * (T_B + T_E)) == pytest.approx(
+            0.5 * (psi0 + psi1), abs=1e-15
+        )
     times = np.linspace(0.0, trajectory.schedule.duration, 7).reshape(7, 1)
     assert trajectory.torso_yaw(times).shape == (7, 1)
     assert trajectory.torso_yaw(trajectory.schedule.duration + 1.0) == pytest.approx(0.5)
@@ -155,9 +164,9 @@ def test_yaws_take_the_short_way_across_pi():
     trajectory = SwingFootTrajectory(ContactSchedule(plan))
     wrap_gap = 6.2 - 2.0 * np.pi  # [rad] short way from -3.1 to 3.1 (about -0.083)
     assert float(wrap_angle(trajectory.torso_yaws[0] - np.pi)) == pytest.approx(0.0, abs=1e-12)
-    np.testing.assert_allclose(np.diff(trajectory.torso_yaws),
-                               [3.1 - np.pi, np.pi - 3.1, np.pi - 3.05],
-                               atol=1e-12)  # unwrapped: no 2 pi jumps
+    np.testing.assert_allclose(
+        np.diff(trajectory.torso_yaws), [3.1 - np.pi, np.pi - 3.1, np.pi - 3.05], atol=1e-12
+    )  # unwrapped: no 2 pi jumps
     middle = 0.5 * (T_B + T_E)
     # Right foot: lift -3.1, landing 3.1: turns by wrap_gap through -pi.
     right = trajectory.foot_poses(step_start(0) + middle)[Side.RIGHT]
@@ -200,8 +209,12 @@ def test_ctraj_profile_lifts_then_lowers_with_quintic_timing():
     from mpcwalk.footsteps.footstep import FootstepPlan as Plan
 
     left, right = Footstep(Side.LEFT, [0.0, 0.1]), Footstep(Side.RIGHT, [0.0, -0.1])
-    plan = Plan(left, right, [Footstep(Side.RIGHT, [0.3, -0.1], 0.2)],
-                StepTiming(step_duration=2.0, double_support_ratio=0.5))
+    plan = Plan(
+        left,
+        right,
+        [Footstep(Side.RIGHT, [0.3, -0.1], 0.2)],
+        StepTiming(step_duration=2.0, double_support_ratio=0.5),
+    )
     schedule = ContactSchedule(plan)
     traj = SwingFootTrajectory(schedule, step_height=0.1, profile="ctraj")
     t_b, t_e = schedule.walk_start + schedule.t_b, schedule.walk_start + schedule.t_e
@@ -213,10 +226,14 @@ def test_ctraj_profile_lifts_then_lowers_with_quintic_timing():
     assert apex.yaw == pytest.approx(0.1, abs=1e-12)
     for state in (start, apex, end):
         assert np.abs(state.linear_velocity[2]) < 1e-6
-    assert np.linalg.norm(start.linear_velocity) < 1e-6 and np.linalg.norm(end.linear_velocity) < 1e-6
+    assert (
+        np.linalg.norm(start.linear_velocity) < 1e-6 and np.linalg.norm(end.linear_velocity) < 1e-6
+    )
     h = 1e-5
     for t in np.linspace(t_b + 0.05, t_e - 0.05, 17):
-        fd = (traj.foot_poses(t + h).right.position - traj.foot_poses(t - h).right.position) / (2 * h)
+        fd = (traj.foot_poses(t + h).right.position - traj.foot_poses(t - h).right.position) / (
+            2 * h
+        )
         np.testing.assert_allclose(traj.foot_poses(t).right.linear_velocity, fd, atol=1e-7)
     with pytest.raises(ConfigurationError, match="Swing profile must be one of cosine, ctraj"):
         SwingFootTrajectory(schedule, profile="spline")

@@ -1,5 +1,6 @@
 """Velocity footstep planner (paper M, sec. 3.1, eq. 5)."""
 
+import itertools
 import math
 
 import numpy as np
@@ -8,7 +9,12 @@ import pytest
 from mpcwalk.exceptions import ConfigurationError, InfeasibleCommand
 from mpcwalk.footsteps.footstep import Footstep, Side, StepTiming, wrap_angle
 from mpcwalk.footsteps.velocity_planner import (
-    LegLimits, VelocityCommand, VelocityPlanner, integrate_torso, plan_from_velocity)
+    LegLimits,
+    VelocityCommand,
+    VelocityPlanner,
+    integrate_torso,
+    plan_from_velocity,
+)
 
 LIMITS = LegLimits()
 T = StepTiming().step_duration
@@ -29,7 +35,9 @@ def assert_side_by_side(plan):
     final = plan.stance(plan.nb_steps)
     left, right = final[Side.LEFT], final[Side.RIGHT]
     assert abs(float(wrap_angle(left.yaw - right.yaw))) < 1e-12
-    np.testing.assert_allclose(right.to_local(left.xy), [0.0, 2.0 * LIMITS.half_stance_width], atol=1e-12)
+    np.testing.assert_allclose(
+        right.to_local(left.xy), [0.0, 2.0 * LIMITS.half_stance_width], atol=1e-12
+    )
 
 
 def test_straight_walk_advances_half_velocity_times_period_per_step():
@@ -37,7 +45,7 @@ def test_straight_walk_advances_half_velocity_times_period_per_step():
     assert plan.nb_steps == 21  # 20 walking steps + the closing one
     sides = [s.side for s in plan.steps]
     assert sides[0] is Side.RIGHT  # straight walk starts with the right foot
-    assert all(a is not b for a, b in zip(sides, sides[1:]))
+    assert all(a is not b for a, b in itertools.pairwise(sides))
     x = np.array([s.xy[0] for s in plan.steps[:20]])
     np.testing.assert_allclose(x, 0.05 * np.arange(1, 21), atol=1e-12)
     assert np.mean(np.diff(np.concatenate([[0.0], x]))) == pytest.approx(0.05, abs=1e-12)
@@ -47,7 +55,9 @@ def test_straight_walk_advances_half_velocity_times_period_per_step():
     assert np.all(offsets[:, 1] >= 2.0 * LIMITS.y_sep - 1e-12)
     assert_side_by_side(plan)
     final = plan.stance(plan.nb_steps)
-    np.testing.assert_allclose(0.5 * (final[Side.LEFT].xy + final[Side.RIGHT].xy), [1.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(
+        0.5 * (final[Side.LEFT].xy + final[Side.RIGHT].xy), [1.0, 0.0], atol=1e-12
+    )
 
 
 def test_turning_walk_follows_the_commanded_yaw_rate():
@@ -64,7 +74,9 @@ def test_turning_walk_follows_the_commanded_yaw_rate():
     # no landing is clamped at this command, so the feet end on the exact arc
     radius, psi = vx / vyaw, vyaw * T * n
     midpoint = 0.5 * (final[Side.LEFT].xy + final[Side.RIGHT].xy)
-    np.testing.assert_allclose(midpoint, [radius * math.sin(psi), radius * (1.0 - math.cos(psi))], atol=1e-12)
+    np.testing.assert_allclose(
+        midpoint, [radius * math.sin(psi), radius * (1.0 - math.cos(psi))], atol=1e-12
+    )
     offsets = support_frame_offsets(plan)
     assert np.all(offsets[:, 1] >= 2.0 * LIMITS.y_sep - 1e-12)
     assert np.all(offsets[:, 2] >= -LIMITS.max_step_yaw_inward - 1e-12)
@@ -94,7 +106,9 @@ def test_sideways_walk_keeps_the_minimum_separation(vy):
     assert_side_by_side(plan)
 
 
-@pytest.mark.parametrize("command", [(0.16, 0.0, 0.5), (0.0, 0.06, 0.0), (0.0, 0.06, 0.2), (0.0, 0.0, 0.55)])
+@pytest.mark.parametrize(
+    "command", [(0.16, 0.0, 0.5), (0.0, 0.06, 0.0), (0.0, 0.06, 0.2), (0.0, 0.0, 0.55)]
+)
 def test_clamping_at_the_limits_does_not_accumulate_drift(command):
     """At the command limits some landings are clamped; the lag stays constant."""
     planner, n, h = VelocityPlanner(), 40, LIMITS.half_stance_width
@@ -120,8 +134,9 @@ def test_initial_feet_and_first_swing_and_no_stop():
     start = np.array([1.0, 2.0])
     left = Footstep(Side.LEFT, start + 0.05 * left_dir, yaw)
     right = Footstep(Side.RIGHT, start - 0.05 * left_dir, yaw)
-    plan = VelocityPlanner().plan((0.1, 0.0, 0.0), 4, initial_left=left, initial_right=right,
-                                  first_swing="left", stop=False)
+    plan = VelocityPlanner().plan(
+        (0.1, 0.0, 0.0), 4, initial_left=left, initial_right=right, first_swing="left", stop=False
+    )
     assert plan.nb_steps == 4
     assert [s.side for s in plan.steps] == [Side.LEFT, Side.RIGHT, Side.LEFT, Side.RIGHT]
     for k, step in enumerate(plan.steps):
@@ -134,7 +149,9 @@ def test_exact_integration_of_the_unicycle_model():
     command = VelocityCommand(0.0, 0.08, 0.4)  # pure sideways + turning: a circle
     poses = integrate_torso(command, (0.0, 0.0, 0.0), 30, 0.5)
     radius = 0.08 / 0.4  # moving along +y and turning left: centre at (-radius, 0)
-    np.testing.assert_allclose(np.linalg.norm(poses[:, :2] - [-radius, 0.0], axis=1), radius, atol=1e-12)
+    np.testing.assert_allclose(
+        np.linalg.norm(poses[:, :2] - [-radius, 0.0], axis=1), radius, atol=1e-12
+    )
     # forward Euler with a fine step converges to the same pose
     fine = np.zeros(3)
     dt = 0.5 / 2000
@@ -144,12 +161,15 @@ def test_exact_integration_of_the_unicycle_model():
     np.testing.assert_allclose(poses[-1], fine, atol=1e-4)
 
 
-@pytest.mark.parametrize("command, limit, pattern", [
-    ((0.2, 0.0, 0.0), 0.16, r"vx=0\.2 m/s exceeds its limit \|vx\| <= 0\.16 m/s"),
-    ((-0.1, 0.0, 0.0), 0.08, r"vx=-0\.1 m/s exceeds its limit \|vx\| <= 0\.08 m/s"),
-    ((0.0, 0.1, 0.0), 0.06, r"vy=0\.1 m/s exceeds its limit \|vy\| <= 0\.06 m/s"),
-    ((0.0, 0.0, -0.6), 0.55, r"vyaw=-0\.6 rad/s exceeds its limit \|vyaw\| <= 0\.55 rad/s"),
-])
+@pytest.mark.parametrize(
+    "command, limit, pattern",
+    [
+        ((0.2, 0.0, 0.0), 0.16, r"vx=0\.2 m/s exceeds its limit \|vx\| <= 0\.16 m/s"),
+        ((-0.1, 0.0, 0.0), 0.08, r"vx=-0\.1 m/s exceeds its limit \|vx\| <= 0\.08 m/s"),
+        ((0.0, 0.1, 0.0), 0.06, r"vy=0\.1 m/s exceeds its limit \|vy\| <= 0\.06 m/s"),
+        ((0.0, 0.0, -0.6), 0.55, r"vyaw=-0\.6 rad/s exceeds its limit \|vyaw\| <= 0\.55 rad/s"),
+    ],
+)
 def test_infeasible_commands_name_value_and_limit(command, limit, pattern):
     with pytest.raises(InfeasibleCommand, match=pattern) as info:
         plan_from_velocity(*command, 10)

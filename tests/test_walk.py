@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from mpcwalk.cli import main as cli_main
-from mpcwalk.robots import load_robot
+from mpcwalk.robot.loading import load_robot
 from mpcwalk.sim import FallDetector, parse_push
-from mpcwalk.walk import leg_limits, plan_walk_footsteps, run_walk
-from mpcwalk.walk_report import cop_margins, landing_check_times
+from mpcwalk.walking.report import cop_margins, landing_check_times
+from mpcwalk.walking.runner import leg_limits, plan_walk_footsteps, run_walk
 
 ROOT = Path(__file__).resolve().parent.parent
 TURN_RATE = math.radians(20.0)  # [rad/s] paper M's turning walk
@@ -24,8 +24,15 @@ def get_robot(name: str):
     return _ROBOTS[name]
 
 
-def check_walk(metrics, *, distance_tolerance, foot_error_cm, zmp_margin_min, yaw_tolerance=5.0,
-               foot_yaw_error_deg=5.0):
+def check_walk(
+    metrics,
+    *,
+    distance_tolerance,
+    foot_error_cm,
+    zmp_margin_min,
+    yaw_tolerance=5.0,
+    foot_yaw_error_deg=5.0,
+):
     """What every required walk must show (tolerances in the units of the keys)."""
     assert not metrics["fell"], metrics["fall_reason"]
     assert metrics["steps_completed"] == metrics["steps_planned"]
@@ -50,36 +57,56 @@ def check_walk(metrics, *, distance_tolerance, foot_error_cm, zmp_margin_min, ya
 @pytest.mark.parametrize("generator", ["analytic", "preview", "mpc"])
 def test_small_humanoid_walks_twenty_steps_forward(generator):
     """Paper M's Table 1: T = 0.5 s, z_c = 0.23 m, z_step = 0.04 m, r_ds = 0.2, 0.1 m/s."""
-    result = run_walk(get_robot("bioloid-like"), generator, command=(0.1, 0.0, 0.0),
-                      nb_steps=20, progress=False)
+    result = run_walk(
+        get_robot("bioloid-like"), generator, command=(0.1, 0.0, 0.0), nb_steps=20, progress=False
+    )
     m = result.metrics
-    assert (m["step_duration_s"], m["com_height_m"], m["step_height_m"],
-            m["double_support_ratio"]) == (0.5, 0.23, 0.04, 0.2)
+    assert (
+        m["step_duration_s"],
+        m["com_height_m"],
+        m["step_height_m"],
+        m["double_support_ratio"],
+    ) == (0.5, 0.23, 0.04, 0.2)
     assert m["steps_planned"] == 21  # 20 steps and the closing one
     assert m["distance_planned_m"] == pytest.approx(1.0)
-    check_walk(m, distance_tolerance=0.06, foot_error_cm=5.0,
-               zmp_margin_min=-0.06 if generator == "analytic" else -0.03)
+    check_walk(
+        m,
+        distance_tolerance=0.06,
+        foot_error_cm=5.0,
+        zmp_margin_min=-0.06 if generator == "analytic" else -0.03,
+    )
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("generator", ["analytic", "preview", "mpc"])
 def test_small_humanoid_turning_walk_of_paper_m(generator):
     """0.1 m/s and 20 deg/s for 10 s: 200 deg of yaw."""
-    result = run_walk(get_robot("bioloid-like"), generator, command=(0.1, 0.0, TURN_RATE),
-                      duration=10.0, progress=False)
+    result = run_walk(
+        get_robot("bioloid-like"),
+        generator,
+        command=(0.1, 0.0, TURN_RATE),
+        duration=10.0,
+        progress=False,
+    )
     m = result.metrics
     assert m["yaw_change_planned_deg"] == pytest.approx(200.0)
     # world-frame errors grow with the heading drift of the stance feet (yaw slips of a
     # fraction of a degree per step with the preview generator), the per-step ones do not
-    check_walk(m, distance_tolerance=0.1, foot_error_cm=10.0, yaw_tolerance=12.0,
-               foot_yaw_error_deg=12.0,
-               zmp_margin_min=-0.06 if generator == "analytic" else -0.03)
+    check_walk(
+        m,
+        distance_tolerance=0.1,
+        foot_error_cm=10.0,
+        yaw_tolerance=12.0,
+        foot_yaw_error_deg=12.0,
+        zmp_margin_min=-0.06 if generator == "analytic" else -0.03,
+    )
 
 
 @pytest.mark.slow
 def test_large_humanoid_walks_ten_steps_at_one_second_per_step():
-    result = run_walk(get_robot("atlas-like"), "mpc", command=(0.2, 0.0, 0.0), nb_steps=10,
-                      progress=False)
+    result = run_walk(
+        get_robot("atlas-like"), "mpc", command=(0.2, 0.0, 0.0), nb_steps=10, progress=False
+    )
     m = result.metrics
     assert m["step_duration_s"] <= 1.0  # paper A needed 12 s per step
     check_walk(m, distance_tolerance=0.1, foot_error_cm=7.0, zmp_margin_min=-0.03)
@@ -87,8 +114,7 @@ def test_large_humanoid_walks_ten_steps_at_one_second_per_step():
 
 @pytest.mark.slow
 def test_unitree_g1_walks_ten_steps():
-    result = run_walk(get_robot("g1"), "mpc", command=(0.2, 0.0, 0.0), nb_steps=10,
-                      progress=False)
+    result = run_walk(get_robot("g1"), "mpc", command=(0.2, 0.0, 0.0), nb_steps=10, progress=False)
     check_walk(result.metrics, distance_tolerance=0.06, foot_error_cm=5.0, zmp_margin_min=-0.03)
 
 
@@ -110,8 +136,9 @@ def test_large_humanoid_follows_paper_a_path_file():
 def test_fall_ends_the_run_early_and_says_why():
     robot = get_robot("bioloid-like")
     push = parse_push("1.2,0.2,0,40,0")  # 40 N sideways on a 2 kg robot
-    result = run_walk(robot, "mpc", command=(0.1, 0.0, 0.0), nb_steps=6, pushes=[push],
-                      progress=False)
+    result = run_walk(
+        robot, "mpc", command=(0.1, 0.0, 0.0), nb_steps=6, pushes=[push], progress=False
+    )
     m = result.metrics
     assert m["fell"] and result.fall.fell
     assert "base" in m["fall_reason"]
@@ -123,15 +150,25 @@ def test_fall_ends_the_run_early_and_says_why():
 
 def test_log_round_trips_and_metrics_match_it(tmp_path):
     robot = get_robot("bioloid-like")
-    result = run_walk(robot, "mpc", command=(0.1, 0.0, 0.0), nb_steps=1, progress=False,
-                      fall_detector=FallDetector.for_robot(robot))
+    result = run_walk(
+        robot,
+        "mpc",
+        command=(0.1, 0.0, 0.0),
+        nb_steps=1,
+        progress=False,
+        fall_detector=FallDetector.for_robot(robot),
+    )
     log, schedule = result.log, result.schedule
     n = len(log)
     assert n == round(schedule.duration / 0.01)
     np.testing.assert_allclose(np.diff(log.time), 0.01, atol=1e-9)
-    for name, shape in (("com", (n, 3)), ("cop", (n, 3)), ("sole_positions", (n, 2, 3)),
-                        ("joint_targets", (n, len(robot.joint_names))),
-                        ("actuator_force", (n, robot.mj_model.nu))):
+    for name, shape in (
+        ("com", (n, 3)),
+        ("cop", (n, 3)),
+        ("sole_positions", (n, 2, 3)),
+        ("joint_targets", (n, len(robot.joint_names))),
+        ("actuator_force", (n, robot.mj_model.nu)),
+    ):
         assert getattr(log, name).shape == shape
     saved = np.load(log.save(tmp_path / "walk_log.npz"))
     np.testing.assert_array_equal(saved["com"], log.com)
@@ -161,15 +198,43 @@ def test_leg_limits_and_plans_come_from_the_presets():
 @pytest.mark.slow
 def test_walk_command_writes_metrics_log_plots_and_video(tmp_path, capsys):
     out = tmp_path / "walk"
-    code = cli_main(["walk", "--robot", "bioloid-like", "--generator", "mpc", "--vx", "0.1",
-                     "--steps", "2", "--out", str(out), "--video", "--no-progress"])
+    code = cli_main(
+        [
+            "walk",
+            "--robot",
+            "bioloid-like",
+            "--generator",
+            "mpc",
+            "--vx",
+            "0.1",
+            "--steps",
+            "2",
+            "--out",
+            str(out),
+            "--video",
+            "--no-progress",
+        ]
+    )
     assert code == 0
     metrics = json.loads((out / "metrics.json").read_text())
-    for key in ("fell", "time_simulated_s", "steps_completed", "distance_m", "yaw_change_deg",
-                "foot_position_error_cm_mean", "foot_position_error_cm_max",
-                "foot_yaw_error_deg_mean", "foot_yaw_error_deg_max", "zmp_margin_min_m",
-                "generator_tick_us_median", "ik_tick_us_median", "real_time_factor",
-                "generator", "robot", "mpc_failures"):
+    for key in (
+        "fell",
+        "time_simulated_s",
+        "steps_completed",
+        "distance_m",
+        "yaw_change_deg",
+        "foot_position_error_cm_mean",
+        "foot_position_error_cm_max",
+        "foot_yaw_error_deg_mean",
+        "foot_yaw_error_deg_max",
+        "zmp_margin_min_m",
+        "generator_tick_us_median",
+        "ik_tick_us_median",
+        "real_time_factor",
+        "generator",
+        "robot",
+        "mpc_failures",
+    ):
         assert key in metrics
     assert metrics["fell"] is False and metrics["robot"] == "bioloid-like"
     for name in ("walk_log.npz", "top_view.png", "com_cop.png", "walk.mp4"):
@@ -177,15 +242,18 @@ def test_walk_command_writes_metrics_log_plots_and_video(tmp_path, capsys):
     assert "no fall" in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("argv, message", [
-    (["--robot", "nope", "--duration", "1"], "Unknown robot 'nope'"),
-    (["--generator", "nope", "--duration", "1"], "Unknown pattern generator"),
-    (["--vx", "0.1", "--path", "x.mdat", "--duration", "1"], "not both"),
-    (["--vx", "0.1"], "needs --duration"),
-    (["--vx", "0.5", "--duration", "1"], "vx=0.5"),
-    (["--push", "1,2", "--duration", "1"], "Push '1,2' is malformed"),
-    (["--path", "missing.mdat"], "missing.mdat"),
-])
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--robot", "nope", "--duration", "1"], "Unknown robot 'nope'"),
+        (["--generator", "nope", "--duration", "1"], "Unknown pattern generator"),
+        (["--vx", "0.1", "--path", "x.mdat", "--duration", "1"], "not both"),
+        (["--vx", "0.1"], "needs --duration"),
+        (["--vx", "0.5", "--duration", "1"], "vx=0.5"),
+        (["--push", "1,2", "--duration", "1"], "Push '1,2' is malformed"),
+        (["--path", "missing.mdat"], "missing.mdat"),
+    ],
+)
 def test_walk_command_bad_input_exits_with_code_2(tmp_path, capsys, argv, message):
     code = cli_main(["walk", "--out", str(tmp_path / "out"), "--no-progress", *argv])
     assert code == 2

@@ -2,22 +2,23 @@
 
 import numpy as np
 import pytest
+from plans import velocity_schedule as arc_schedule
 
 from mpcwalk.exceptions import ConfigurationError, NotReset
+from mpcwalk.gait.support_margins import support_margins
 from mpcwalk.generators.mpc import MpcGenerator
-from mpcwalk.metrics import support_margins
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp import MpcParameters, WalkingQP, make_solver
 from mpcwalk.qp.schedule_tables import ScheduleTables
-from plans import velocity_schedule as arc_schedule
-
-
-
 
 RICH = MpcParameters(  # every term and every constraint group
-    velocity_weight=0.1, com_weight=0.1, com_weight_single_support_only=True,
-    zmp_margin=0.002, com_margin=0.0, terminal_dcm=True,
+    velocity_weight=0.1,
+    com_weight=0.1,
+    com_weight_single_support_only=True,
+    zmp_margin=0.002,
+    com_margin=0.0,
+    terminal_dcm=True,
 )
 X0 = np.array([[0.0, 0.0], [0.05, 0.1], [0.0, 0.0]])  # pushed sideways
 ACCURATE = {"quadprog": {}, "clarabel": dict(tol_gap_abs=1e-11, tol_gap_rel=1e-11, tol_feas=1e-11)}
@@ -53,22 +54,25 @@ def test_dense_and_sparse_formulations_agree(params, phase):
     # CoM constraints need a slow (static) gait: T = 2 s there.
     step_duration = 0.5 if params.com_margin is None else 2.0
     t = phase * step_duration / 0.5
-    schedule = arc_schedule((0.1 * 0.5 / step_duration, 0.0, np.deg2rad(20.0)),
-                            step_duration=step_duration, r_ds=0.2 if step_duration == 0.5 else 0.5)
+    schedule = arc_schedule(
+        (0.1 * 0.5 / step_duration, 0.0, np.deg2rad(20.0)),
+        step_duration=step_duration,
+        r_ds=0.2 if step_duration == 0.5 else 0.5,
+    )
     x0 = walking_state(schedule, t, params=params)
-    (qd, rd, pd), (qs, rs, ps) = solve_pair(params, x0, t, schedule, control_period=0.01)
+    (_qd, _rd, pd), (qs, rs, ps) = solve_pair(params, x0, t, schedule, control_period=0.01)
     assert np.max(np.abs(pd.zmp - ps.zmp)) < 1e-7  # [m]
     assert np.max(np.abs(pd.com - ps.com)) < 1e-7  # [m]
     # Same constraints: the sparse states satisfy the dynamics.
     assert rs.primal_residual < 1e-8
-    states = rs.x[2 * qs.N:].reshape(2, qs.N, 3)
+    states = rs.x[2 * qs.N :].reshape(2, qs.N, 3)
     assert np.max(np.abs(states[:, :, 0].T - ps.com)) < 1e-8
 
 
 def test_an_active_constraint_is_met_with_equality():
     schedule = arc_schedule((0.1, 0.0, 0.0))
     x0 = walking_state(schedule, 1.2, push=(0.0, 0.2))  # ZMP pressed on an edge
-    (qd, rd, pd), (qs, rs, ps) = solve_pair(MpcParameters(), x0, 1.2, schedule)
+    (qd, rd, pd), (_qs, _rs, ps) = solve_pair(MpcParameters(), x0, 1.2, schedule)
     slack = qd.u - qd.A @ rd.x
     assert np.min(slack) < 1e-9 and np.min(slack) > -1e-9
     margins = support_margins(schedule, pd.times, pd.zmp)

@@ -7,44 +7,65 @@ Usage (from the repository root)::
 
 Writes ``README.md`` (table, goal checks, definitions), ``results.json`` and the figures into
 ``--out``. Parameters: ``experiments/paper_m/paper_m.toml``; controllers:
-``mpcwalk.experiments_paper_m.CONTROLLERS``.
+``mpcwalk.experiments.paper_m.CONTROLLERS``.
 """
 
 import argparse
 import sys
 from pathlib import Path
 
-from mpcwalk.experiments_paper_m import CONTROLLERS, DEFAULT_CONFIG, EXPERIMENTS, load_config
-from mpcwalk.paper_m_report import format_goals, format_table, run_paper_m
+from mpcwalk.experiments.paper_m import CONTROLLERS, DEFAULT_CONFIG, EXPERIMENTS, load_config
+from mpcwalk.experiments.paper_m_report import format_goals, format_table, run_paper_m
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=Path("results") / "paper_m",
-                        help="output directory")
+    parser.add_argument(
+        "--out", type=Path, default=Path("results") / "paper_m", help="output directory"
+    )
     mode = parser.add_mutually_exclusive_group()
-    mode.add_argument("--full", dest="mode", action="store_const", const="full",
-                      help="the full grid (default)")
-    mode.add_argument("--quick", dest="mode", action="store_const", const="quick",
-                      help="the reduced grid of the [quick.*] tables")
+    mode.add_argument(
+        "--full", dest="mode", action="store_const", const="full", help="the full grid (default)"
+    )
+    mode.add_argument(
+        "--quick",
+        dest="mode",
+        action="store_const",
+        const="quick",
+        help="the reduced grid of the [quick.*] tables",
+    )
     parser.set_defaults(mode="full")
-    parser.add_argument("--workers", type=int, default=None,
-                        help="worker processes (default: one per core)")
+    parser.add_argument(
+        "--workers", type=int, default=None, help="worker processes (default: one per core)"
+    )
     parser.add_argument("--config", type=Path, default=DEFAULT_CONFIG, help="TOML parameters")
-    parser.add_argument("--controllers", nargs="+", default=None, choices=list(CONTROLLERS),
-                        help="run only these controllers")
-    parser.add_argument("--experiments", nargs="+", default=list(EXPERIMENTS),
-                        choices=list(EXPERIMENTS))
+    parser.add_argument(
+        "--controllers",
+        nargs="+",
+        default=None,
+        choices=list(CONTROLLERS),
+        help="run only these controllers",
+    )
+    parser.add_argument(
+        "--experiments", nargs="+", default=list(EXPERIMENTS), choices=list(EXPERIMENTS)
+    )
     parser.add_argument("--no-plots", action="store_true", help="table only")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     args = parser.parse_args(argv)
     config = load_config(args.config, mode=args.mode)
     command = "python experiments/paper_m/run.py " + " ".join(
-        sys.argv[1:] if argv is None else argv)
-    results = run_paper_m(args.out, config, names=args.controllers,
-                          experiments=args.experiments, workers=args.workers,
-                          progress=not args.no_progress, plots=not args.no_plots,
-                          command=command.strip())
+        sys.argv[1:] if argv is None else argv
+    )
+    results = run_paper_m(
+        args.out,
+        config,
+        names=args.controllers,
+        experiments=args.experiments,
+        workers=args.workers,
+        progress=not args.no_progress,
+        plots=not args.no_plots,
+        command=command.strip(),
+    )
     print(format_table(results["rows"]))
     print(format_goals(results["goals"]))
     for name, reason in results["skipped"].items():

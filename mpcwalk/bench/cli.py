@@ -5,9 +5,9 @@ from pathlib import Path
 
 
 def _run_ticks(args) -> int:
-    from ..footsteps.velocity_planner import VelocityCommand
-    from .output import machine_description, write_bench_output
-    from .ticks import format_table, run_tick_benchmark
+    from mpcwalk.bench.output import machine_description, write_bench_output
+    from mpcwalk.bench.ticks import format_table, run_tick_benchmark
+    from mpcwalk.footsteps.velocity_planner import VelocityCommand
 
     results = run_tick_benchmark(
         nb_steps=args.steps,
@@ -17,7 +17,7 @@ def _run_ticks(args) -> int:
         include_peer=not args.no_peer,
         progress=not args.no_progress,
     )
-    from ..generators.mpc import MpcGenerator
+    from mpcwalk.generators.mpc import MpcGenerator
 
     table = format_table(results)
     params = MpcGenerator.default_parameters
@@ -29,8 +29,9 @@ def _run_ticks(args) -> int:
         f"Machine: {machine_description()}.\n"
         f"Command: `mpcwalk bench ticks --out {args.out}`\n"
     )
-    write_bench_output(args.out, "ticks", header + "\n" + table + "\n",
-                       [asdict(r) for r in results])
+    write_bench_output(
+        args.out, "ticks", header + "\n" + table + "\n", [asdict(r) for r in results]
+    )
     return 0
 
 
@@ -47,17 +48,19 @@ def add_bench_parser(sub) -> None:
     ticks.add_argument("--vy", type=float, default=0.0)
     ticks.add_argument("--vyaw", type=float, default=0.35)
     ticks.add_argument("--control-period", type=float, default=0.01)
-    ticks.add_argument("--solvers", default=None, help="comma-separated qpsolvers back-ends for the MPC")
+    ticks.add_argument(
+        "--solvers", default=None, help="comma-separated qpsolvers back-ends for the MPC"
+    )
     ticks.add_argument("--no-peer", action="store_true", help="skip the qpmpc peer")
     ticks.add_argument("--no-progress", action="store_true")
     ticks.add_argument("--out", type=Path, default=Path("results/ticks"))
     ticks.set_defaults(bench_func=_run_ticks)
-    from .ik_bench import add_ik_bench_parser
+    from mpcwalk.bench.ik import add_ik_bench_parser
 
     add_ik_bench_parser(bsub)
-    from .loop import add_loop_bench_parser
+    from mpcwalk.bench.loop import add_loop_bench_parser
 
     add_loop_bench_parser(bsub)
-    from .solver_cli import add_solver_bench_parser
+    from mpcwalk.bench.solvers.cli import add_solver_bench_parser
 
     add_solver_bench_parser(bsub)

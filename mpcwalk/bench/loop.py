@@ -3,13 +3,13 @@ beside pink on the same tasks (issue figures: real-time factor, generator tick,
 IK tick, MuJoCo step).
 
 Each walk runs in this process, one after the other, with the same settings as
-``mpcwalk walk``; the IK comparison is :func:`mpcwalk.bench.ik_bench.run_ik_benchmark`
+``mpcwalk walk``; the IK comparison is :func:`mpcwalk.bench.ik.run_ik_benchmark`
 in the same run.
 """
 
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Dict, List, Sequence, Tuple
 
 #: The walks the robots/MuJoCo issue asks for: (robot, generator, command (vx, vy, vyaw),
 #: number of steps, step duration or None for the preset's).
@@ -55,7 +55,7 @@ class LoopCase:
 
     robot: str
     generator: str
-    command: Tuple[float, float, float]
+    command: tuple[float, float, float]
     step_duration_s: float
     fell: bool
     steps_completed: int
@@ -74,7 +74,7 @@ class LoopCase:
     zmp_margin_p05_m: float
 
 
-def run_loop_benchmark(walks=DEFAULT_WALKS, *, progress: bool = True) -> List[LoopCase]:
+def run_loop_benchmark(walks=DEFAULT_WALKS, *, progress: bool = True) -> list[LoopCase]:
     """Run every walk and collect its metrics and timing.
 
     Args:
@@ -83,31 +83,44 @@ def run_loop_benchmark(walks=DEFAULT_WALKS, *, progress: bool = True) -> List[Lo
     """
     from tqdm import tqdm
 
-    from ..walk import run_walk
+    from mpcwalk.walking.runner import run_walk
 
     cases = []
     for robot, generator, command, nb_steps, step_duration in tqdm(
-            walks, desc="walks", disable=not progress):
-        result = run_walk(robot, generator, command=command, nb_steps=nb_steps,
-                          step_duration=step_duration, progress=False)
+        walks, desc="walks", disable=not progress
+    ):
+        result = run_walk(
+            robot,
+            generator,
+            command=command,
+            nb_steps=nb_steps,
+            step_duration=step_duration,
+            progress=False,
+        )
         m = result.metrics
-        cases.append(LoopCase(
-            robot=robot, generator=generator, command=tuple(command),
-            step_duration_s=float(m["step_duration_s"]), fell=bool(m["fell"]),
-            steps_completed=int(m["steps_completed"]),
-            time_simulated_s=float(m["time_simulated_s"]),
-            real_time_factor=float(m["real_time_factor"]),
-            generator_tick_us=float(m["generator_tick_us_median"]),
-            ik_tick_us=float(m["ik_tick_us_median"]),
-            controller_tick_us=float(m["controller_tick_us_median"]),
-            mujoco_step_us=float(m["mujoco_step_us_median"]),
-            distance_m=float(m["distance_m"]), distance_planned_m=float(m["distance_planned_m"]),
-            yaw_change_deg=float(m["yaw_change_deg"]),
-            foot_position_error_cm_mean=float(m["foot_position_error_cm_mean"] or 0.0),
-            foot_position_error_cm_max=float(m["foot_position_error_cm_max"] or 0.0),
-            foot_yaw_error_deg_max=float(m["foot_yaw_error_deg_max"] or 0.0),
-            zmp_margin_p05_m=float(m["zmp_margin_p05_m"] or 0.0),
-        ))
+        cases.append(
+            LoopCase(
+                robot=robot,
+                generator=generator,
+                command=tuple(command),
+                step_duration_s=float(m["step_duration_s"]),
+                fell=bool(m["fell"]),
+                steps_completed=int(m["steps_completed"]),
+                time_simulated_s=float(m["time_simulated_s"]),
+                real_time_factor=float(m["real_time_factor"]),
+                generator_tick_us=float(m["generator_tick_us_median"]),
+                ik_tick_us=float(m["ik_tick_us_median"]),
+                controller_tick_us=float(m["controller_tick_us_median"]),
+                mujoco_step_us=float(m["mujoco_step_us_median"]),
+                distance_m=float(m["distance_m"]),
+                distance_planned_m=float(m["distance_planned_m"]),
+                yaw_change_deg=float(m["yaw_change_deg"]),
+                foot_position_error_cm_mean=float(m["foot_position_error_cm_mean"] or 0.0),
+                foot_position_error_cm_max=float(m["foot_position_error_cm_max"] or 0.0),
+                foot_yaw_error_deg_max=float(m["foot_yaw_error_deg_max"] or 0.0),
+                zmp_margin_p05_m=float(m["zmp_margin_p05_m"] or 0.0),
+            )
+        )
     return cases
 
 
@@ -142,8 +155,8 @@ def format_loop_table(cases: Sequence[LoopCase]) -> str:
 
 
 def _run_loop_command(args) -> int:
-    from .ik_bench import format_ik_table, run_ik_benchmark
-    from .output import machine_description, write_bench_output
+    from mpcwalk.bench.ik import format_ik_table, run_ik_benchmark
+    from mpcwalk.bench.output import machine_description, write_bench_output
 
     cases = run_loop_benchmark(progress=not args.no_progress)
     robots = sorted({c.robot for c in cases}, key=[w[0] for w in DEFAULT_WALKS].index)
@@ -154,10 +167,10 @@ def _run_loop_command(args) -> int:
         f"Command: `mpcwalk bench loop --out {args.out}`\n\n"
         + format_loop_table(cases)
         + "\n\nIK tick, ours beside pink on the same tasks, robot and motion (same run):\n\n"
-        + format_ik_table(ik) + "\n"
+        + format_ik_table(ik)
+        + "\n"
     )
-    payload: Dict[str, List] = {"walks": [asdict(c) for c in cases],
-                                "ik": [asdict(r) for r in ik]}
+    payload: dict[str, list] = {"walks": [asdict(c) for c in cases], "ik": [asdict(r) for r in ik]}
     write_bench_output(args.out, "loop", text, payload)
     return 0
 
@@ -165,7 +178,8 @@ def _run_loop_command(args) -> int:
 def add_loop_bench_parser(bsub) -> None:
     """Add ``bench loop`` to the bench sub-commands."""
     loop = bsub.add_parser(
-        "loop", help="whole-loop timing of MuJoCo walks per robot, with the IK beside pink")
+        "loop", help="whole-loop timing of MuJoCo walks per robot, with the IK beside pink"
+    )
     loop.add_argument("--no-progress", action="store_true")
     loop.add_argument("--out", type=Path, default=Path("results/loop"))
     loop.set_defaults(bench_func=_run_loop_command)

@@ -4,16 +4,18 @@ import json
 import os
 import platform
 from pathlib import Path
-from typing import Any, Union
+from typing import Any
 
 
 def machine_description() -> str:
     """One line describing the machine the benchmark ran on."""
-    return (f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-            f"Python {platform.python_version()}")
+    return (
+        f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
+        f"Python {platform.python_version()}"
+    )
 
 
-def write_bench_output(out: Union[str, Path], name: str, text: str, payload: Any) -> None:
+def write_bench_output(out: str | Path, name: str, text: str, payload: Any) -> None:
     """Print ``text`` and write it to ``out/NAME.md``, and ``payload`` to ``out/NAME.json``."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

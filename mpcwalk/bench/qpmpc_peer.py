@@ -9,14 +9,16 @@ regularisation. Each tick follows qpmpc's path for a time-varying problem:
 update the problem, build ``MPCQP`` and call ``qpsolvers.solve_problem``.
 """
 
-from typing import Optional
-
 import numpy as np
 
-from ..gait.contact_schedule import ContactSchedule
-from ..generators.pattern_generator import ComState, GeneratorOutput, PatternGenerator, SolveInfo
-from ..models.cart_table import CartTable
-
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.generators.pattern_generator import (
+    ComState,
+    GeneratorOutput,
+    PatternGenerator,
+    SolveInfo,
+)
+from mpcwalk.models.cart_table import CartTable
 
 #: Back-ends that take sparse matrices (qpmpc's ``sparse`` flag, as its docs advise).
 _SPARSE_SOLVERS = ("osqp", "clarabel", "piqp", "highs", "scs", "qpalm", "proxqp")
@@ -69,8 +71,8 @@ class QpmpcPeer(PatternGenerator):
         self.state = initial_state.as_cart_table()
         return self._output(0.0, self.state)
 
-    def _step(self, measured: Optional[ComState]) -> GeneratorOutput:
-        from qpmpc import MPCProblem, MPCQP
+    def _step(self, measured: ComState | None) -> GeneratorOutput:
+        from qpmpc import MPCQP, MPCProblem
         from qpsolvers import solve_problem
 
         t = self.time

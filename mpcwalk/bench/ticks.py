@@ -6,19 +6,19 @@ generators). Ratios are taken against the closed-form generator measured in
 the same run.
 """
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
-from ..footsteps.footstep import FootGeometry, StepTiming
-from ..footsteps.velocity_planner import VelocityCommand, VelocityPlanner, LegLimits
-from ..gait.contact_schedule import ContactSchedule
-from ..generators import make_generator, rollout
-from ..generators.pattern_generator import PatternGenerator
-from ..metrics import support_margins
-from ..exceptions import MpcwalkError
-from ..models.lipm import LIPM
+from mpcwalk.exceptions import MpcwalkError
+from mpcwalk.footsteps.footstep import FootGeometry, StepTiming
+from mpcwalk.footsteps.velocity_planner import LegLimits, VelocityCommand, VelocityPlanner
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.gait.support_margins import support_margins
+from mpcwalk.generators import make_generator, rollout
+from mpcwalk.generators.pattern_generator import PatternGenerator
+from mpcwalk.models.lipm import LIPM
 
 #: MPC back-ends timed by default (when installed), besides osqp-direct and casadi.
 DEFAULT_QPSOLVERS = ("daqp", "proxqp", "quadprog", "osqp", "clarabel", "piqp", "highs", "qpalm")
@@ -56,7 +56,7 @@ class TickCase:
     error: str = ""
 
 
-def _cases(solvers: Optional[Sequence[str]], include_peer: bool):
+def _cases(solvers: Sequence[str] | None, include_peer: bool):
     from qpsolvers import available_solvers
 
     cases = [
@@ -73,7 +73,14 @@ def _cases(solvers: Optional[Sequence[str]], include_peer: bool):
     for name in ("quadprog", "daqp"):  # footstep-adaptive MPC: dense QP through qpsolvers
         if name in available_solvers:
             cases.append((f"mpc-steps {name}", "mpc-steps", name, {"solver": name}))
-    cases.append(("static-qp osqp-direct (slow timing)", "static-qp", "osqp-direct", {"solver": "osqp-direct"}))
+    cases.append(
+        (
+            "static-qp osqp-direct (slow timing)",
+            "static-qp",
+            "osqp-direct",
+            {"solver": "osqp-direct"},
+        )
+    )
     if "daqp" in available_solvers:
         cases.append(("static-qp daqp (slow timing)", "static-qp", "daqp", {"solver": "daqp"}))
     if include_peer:
@@ -83,9 +90,9 @@ def _cases(solvers: Optional[Sequence[str]], include_peer: bool):
     return cases
 
 
-def _make(generator: str, lipm: LIPM, control_period: float, options: Dict) -> PatternGenerator:
+def _make(generator: str, lipm: LIPM, control_period: float, options: dict) -> PatternGenerator:
     if generator == "qpmpc":
-        from .qpmpc_peer import QpmpcPeer
+        from mpcwalk.bench.qpmpc_peer import QpmpcPeer
 
         return QpmpcPeer(lipm=lipm, control_period=control_period, **options)
     return make_generator(generator, lipm=lipm, control_period=control_period, **options)
@@ -96,10 +103,10 @@ def run_tick_benchmark(
     nb_steps: int = 20,
     command: VelocityCommand = VelocityCommand(0.1, 0.0, 0.35),
     control_period: float = 0.01,
-    solvers: Optional[Sequence[str]] = None,
+    solvers: Sequence[str] | None = None,
     include_peer: bool = True,
     progress: bool = True,
-) -> List[TickCase]:
+) -> list[TickCase]:
     """Time every generator on the same walk.
 
     Args:
@@ -120,10 +127,14 @@ def run_tick_benchmark(
     scale = fast.step_duration / slow.step_duration
     slow_command = VelocityCommand(command.vx * scale, command.vy * scale, command.vyaw * scale)
     schedules = {
-        "paper M": ContactSchedule(VelocityPlanner(LegLimits(), fast).plan(command, nb_steps), FootGeometry()),
-        "slow": ContactSchedule(VelocityPlanner(LegLimits(), slow).plan(slow_command, nb_steps), FootGeometry()),
+        "paper M": ContactSchedule(
+            VelocityPlanner(LegLimits(), fast).plan(command, nb_steps), FootGeometry()
+        ),
+        "slow": ContactSchedule(
+            VelocityPlanner(LegLimits(), slow).plan(slow_command, nb_steps), FootGeometry()
+        ),
     }
-    results: List[TickCase] = []
+    results: list[TickCase] = []
     reference = None
     for label, generator, solver, options in tqdm(
         _cases(solvers, include_peer), desc="generators", disable=not progress
@@ -134,24 +145,45 @@ def run_tick_benchmark(
             gen = _make(generator, lipm, control_period, options)
             traj = rollout(gen, schedule)
         except MpcwalkError as error:  # a failing case never stops the benchmark
-            results.append(TickCase(label, generator, solver, 0, float("nan"), float("nan"),
-                                    float("nan"), float("nan"), 0, timing, str(error)))
+            results.append(
+                TickCase(
+                    label,
+                    generator,
+                    solver,
+                    0,
+                    float("nan"),
+                    float("nan"),
+                    float("nan"),
+                    float("nan"),
+                    0,
+                    timing,
+                    str(error),
+                )
+            )
             continue
         ticks = traj.tick_times[1:] * 1e6  # the first tick includes lazy set-up
         median = float(np.median(ticks))
         if reference is None:
             reference = median
         margins = support_margins(schedule, traj.times, traj.zmp)
-        results.append(TickCase(
-            label=label, generator=generator, solver=solver, nb_ticks=len(ticks),
-            median_us=median, p99_us=float(np.percentile(ticks, 99)),
-            ratio_to_analytic=median / reference, zmp_margin_min_m=float(margins.min()),
-            failures=int(traj.nb_failures), timing=timing,
-        ))
+        results.append(
+            TickCase(
+                label=label,
+                generator=generator,
+                solver=solver,
+                nb_ticks=len(ticks),
+                median_us=median,
+                p99_us=float(np.percentile(ticks, 99)),
+                ratio_to_analytic=median / reference,
+                zmp_margin_min_m=float(margins.min()),
+                failures=int(traj.nb_failures),
+                timing=timing,
+            )
+        )
     return results
 
 
-def format_table(results: List[TickCase]) -> str:
+def format_table(results: list[TickCase]) -> str:
     """Markdown table of the results."""
     lines = [
         "| generator | median [us] | p99 [us] | median / analytic | min ZMP margin [cm] | QP failures |",
@@ -166,5 +198,3 @@ def format_table(results: List[TickCase]) -> str:
             f"{100 * r.zmp_margin_min_m:.2f} | {r.failures} |"
         )
     return "\n".join(lines)
-
-

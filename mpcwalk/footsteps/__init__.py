@@ -1,7 +1,15 @@
 """Footsteps: types, the velocity planner (paper M), path files and reachability (paper A)."""
 
-from .footstep import FootGeometry, Footstep, FootstepPlan, Side, StepTiming, rotation_2d, wrap_angle
-from .mdat import (
+from mpcwalk.footsteps.footstep import (
+    FootGeometry,
+    Footstep,
+    FootstepPlan,
+    Side,
+    StepTiming,
+    rotation_2d,
+    wrap_angle,
+)
+from mpcwalk.footsteps.mdat import (
     MDAT_FIELDS,
     PathTarget,
     PathWaypoint,
@@ -13,8 +21,8 @@ from .mdat import (
     write_mdat,
     yaw_to_quaternion,
 )
-from .path_follower import PathFollower
-from .reachability import (
+from mpcwalk.footsteps.path_follower import PathFollower
+from mpcwalk.footsteps.reachability import (
     ATLAS_REACHABILITY,
     SMALL_HUMANOID_REACHABILITY,
     ClampedFootstep,
@@ -22,13 +30,42 @@ from .reachability import (
     ReachabilityRectangle,
     opening_side,
 )
-from .velocity_planner import LegLimits, VelocityCommand, VelocityPlanner, integrate_torso, plan_from_velocity
+from mpcwalk.footsteps.velocity_planner import (
+    LegLimits,
+    VelocityCommand,
+    VelocityPlanner,
+    integrate_torso,
+    plan_from_velocity,
+)
 
 __all__ = [
-    "ATLAS_REACHABILITY", "ClampedFootstep", "ClampedStep", "FootGeometry", "Footstep",
-    "FootstepPlan", "LegLimits", "MDAT_FIELDS", "PathFollower", "PathTarget", "PathWaypoint",
-    "ReachabilityRectangle", "SMALL_HUMANOID_REACHABILITY", "Side", "StepTiming",
-    "VelocityCommand", "VelocityPlanner", "integrate_torso", "opening_side", "parse_mdat",
-    "path_targets", "plan_from_path", "plan_from_velocity", "quaternion_to_yaw", "read_mdat",
-    "rotation_2d", "wrap_angle", "write_mdat", "yaw_to_quaternion",
+    "ATLAS_REACHABILITY",
+    "MDAT_FIELDS",
+    "SMALL_HUMANOID_REACHABILITY",
+    "ClampedFootstep",
+    "ClampedStep",
+    "FootGeometry",
+    "Footstep",
+    "FootstepPlan",
+    "LegLimits",
+    "PathFollower",
+    "PathTarget",
+    "PathWaypoint",
+    "ReachabilityRectangle",
+    "Side",
+    "StepTiming",
+    "VelocityCommand",
+    "VelocityPlanner",
+    "integrate_torso",
+    "opening_side",
+    "parse_mdat",
+    "path_targets",
+    "plan_from_path",
+    "plan_from_velocity",
+    "quaternion_to_yaw",
+    "read_mdat",
+    "rotation_2d",
+    "wrap_angle",
+    "write_mdat",
+    "yaw_to_quaternion",
 ]

@@ -2,11 +2,11 @@
 
 from dataclasses import dataclass, field
 from enum import Enum
-from typing import Dict, Tuple, Union
+from typing import Union
 
 import numpy as np
 
-from ..exceptions import ConfigurationError, InfeasibleStep
+from mpcwalk.exceptions import ConfigurationError, InfeasibleStep
 
 
 class Side(str, Enum):
@@ -70,8 +70,7 @@ class Footstep:
             pos = np.array([pos[0], pos[1], 0.0])
         if pos.shape != (3,) or not np.all(np.isfinite(pos)):
             raise ConfigurationError(
-                f"Footstep position must be 2 or 3 finite numbers [m], got "
-                f"{self.position!r}."
+                f"Footstep position must be 2 or 3 finite numbers [m], got {self.position!r}."
             )
         if not np.isfinite(self.yaw):
             raise ConfigurationError(f"Footstep yaw must be finite, got {self.yaw!r}.")
@@ -167,7 +166,10 @@ class FootGeometry:
     width: float = 0.06  # [m]
 
     def __post_init__(self) -> None:
-        if not (np.isfinite(self.length) and np.isfinite(self.width)) or min(self.length, self.width) <= 0.0:
+        if (
+            not (np.isfinite(self.length) and np.isfinite(self.width))
+            or min(self.length, self.width) <= 0.0
+        ):
             raise ConfigurationError(
                 f"Foot length and width must be positive, got {self.length!r} x {self.width!r} m."
             )
@@ -189,7 +191,7 @@ class FootstepPlan:
 
     initial_left: Footstep
     initial_right: Footstep
-    steps: Tuple[Footstep, ...] = ()
+    steps: tuple[Footstep, ...] = ()
     timing: StepTiming = field(default_factory=StepTiming)
 
     def __post_init__(self) -> None:
@@ -212,7 +214,7 @@ class FootstepPlan:
         """Number of steps (swing phases)."""
         return len(self.steps)
 
-    def stance(self, k: int) -> Dict[Side, Footstep]:
+    def stance(self, k: int) -> dict[Side, Footstep]:
         """Feet on the ground before step ``k`` (k = nb_steps: after the last)."""
         if not 0 <= k <= self.nb_steps:
             raise IndexError(f"step index {k} outside [0, {self.nb_steps}]")

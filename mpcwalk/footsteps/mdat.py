@@ -13,20 +13,40 @@ allowed. Feet are flat: a quaternion may only turn about the vertical.
 import math
 import os
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import List, NamedTuple, Optional, Sequence, Union
+from typing import NamedTuple
 
 import numpy as np
 
-from ..exceptions import ConfigurationError, FootstepFileError
-from .footstep import Footstep, FootstepPlan, Side, StepTiming, wrap_angle
-from .path_follower import PathFollower
-from .reachability import ATLAS_REACHABILITY, CLAMP_TOLERANCE, ReachabilityRectangle, opening_side
+from mpcwalk.exceptions import ConfigurationError, FootstepFileError
+from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side, StepTiming, wrap_angle
+from mpcwalk.footsteps.path_follower import PathFollower
+from mpcwalk.footsteps.reachability import (
+    ATLAS_REACHABILITY,
+    CLAMP_TOLERANCE,
+    ReachabilityRectangle,
+    opening_side,
+)
 
 #: Field order of one line.
-MDAT_FIELDS = ("xlf", "ylf", "zlf", "qwlf", "qxlf", "qylf", "qzlf",
-               "xrf", "yrf", "zrf", "qwrf", "qxrf", "qyrf", "qzrf")
+MDAT_FIELDS = (
+    "xlf",
+    "ylf",
+    "zlf",
+    "qwlf",
+    "qxlf",
+    "qylf",
+    "qzlf",
+    "xrf",
+    "yrf",
+    "zrf",
+    "qwrf",
+    "qxrf",
+    "qyrf",
+    "qzrf",
+)
 #: Allowed deviation of a quaternion's norm from 1.
 QUATERNION_NORM_TOLERANCE = 1e-3
 #: Largest roll/pitch tilt of a foot, in [rad] (5 deg).
@@ -45,7 +65,7 @@ class PathWaypoint:
 
     left: Footstep
     right: Footstep
-    line: Optional[int] = field(default=None, compare=False)
+    line: int | None = field(default=None, compare=False)
 
     def __post_init__(self) -> None:
         if self.left.side is not Side.LEFT or self.right.side is not Side.RIGHT:
@@ -81,25 +101,33 @@ def yaw_to_quaternion(yaw: float):
 
 
 def _foot(values, offset: int, side: Side, source: str, line: int) -> Footstep:
-    q = np.array(values[offset + 3: offset + 7])
-    names = MDAT_FIELDS[offset + 3: offset + 7]
+    q = np.array(values[offset + 3 : offset + 7])
+    names = MDAT_FIELDS[offset + 3 : offset + 7]
     norm = float(np.linalg.norm(q))
     if abs(norm - 1.0) > QUATERNION_NORM_TOLERANCE:
         raise FootstepFileError(
             f"the {side.value} foot quaternion ({', '.join(names)}) = ({', '.join(f'{v:g}' for v in q)}) "
             f"has norm {norm:.6g}, but a unit quaternion is expected (tolerance "
-            f"{QUATERNION_NORM_TOLERANCE:g}); normalise it.", path=source, line=line, field=names[0])
+            f"{QUATERNION_NORM_TOLERANCE:g}); normalise it.",
+            path=source,
+            line=line,
+            field=names[0],
+        )
     w, x, y, z = q / norm
     tilt = math.acos(min(1.0, max(-1.0, 1.0 - 2.0 * (x * x + y * y))))
     if tilt > MAX_FOOT_TILT:
         raise FootstepFileError(
             f"the {side.value} foot is tilted by {math.degrees(tilt):.2f} deg (roll/pitch), but feet "
             f"must be flat (tilt <= {math.degrees(MAX_FOOT_TILT):g} deg); keep only the yaw part "
-            "(x = y = 0).", path=source, line=line, field=names[1] if abs(x) >= abs(y) else names[2])
-    return Footstep(side, values[offset: offset + 3], quaternion_to_yaw(w, x, y, z))
+            "(x = y = 0).",
+            path=source,
+            line=line,
+            field=names[1] if abs(x) >= abs(y) else names[2],
+        )
+    return Footstep(side, values[offset : offset + 3], quaternion_to_yaw(w, x, y, z))
 
 
-def parse_mdat(text: str, *, source: str = "<string>") -> List[PathWaypoint]:
+def parse_mdat(text: str, *, source: str = "<string>") -> list[PathWaypoint]:
     """Waypoints of a path given as text.
 
     Args:
@@ -119,49 +147,67 @@ def parse_mdat(text: str, *, source: str = "<string>") -> List[PathWaypoint]:
             missing = MDAT_FIELDS[len(tokens)] if len(tokens) < len(MDAT_FIELDS) else None
             raise FootstepFileError(
                 f"expected {len(MDAT_FIELDS)} numbers ({' '.join(MDAT_FIELDS)}), got {len(tokens)}.",
-                path=source, line=number, field=missing)
+                path=source,
+                line=number,
+                field=missing,
+            )
         values = []
         for name, token in zip(MDAT_FIELDS, tokens):
             try:
                 value = float(token)
             except ValueError:
-                raise FootstepFileError(f"'{token}' is not a number.", path=source, line=number,
-                                        field=name) from None
+                raise FootstepFileError(
+                    f"'{token}' is not a number.", path=source, line=number, field=name
+                ) from None
             if not math.isfinite(value):
-                raise FootstepFileError(f"'{token}' is not a finite number.", path=source, line=number,
-                                        field=name)
+                raise FootstepFileError(
+                    f"'{token}' is not a finite number.", path=source, line=number, field=name
+                )
             values.append(value)
-        waypoints.append(PathWaypoint(_foot(values, 0, Side.LEFT, source, number),
-                                      _foot(values, 7, Side.RIGHT, source, number), number))
+        waypoints.append(
+            PathWaypoint(
+                _foot(values, 0, Side.LEFT, source, number),
+                _foot(values, 7, Side.RIGHT, source, number),
+                number,
+            )
+        )
     if not waypoints:
         raise FootstepFileError(
             "no waypoint found; a path file needs at least one line of 14 numbers "
-            f"({' '.join(MDAT_FIELDS)}).", path=source)
+            f"({' '.join(MDAT_FIELDS)}).",
+            path=source,
+        )
     return waypoints
 
 
-def read_mdat(path_or_text: Union[str, os.PathLike]) -> List[PathWaypoint]:
+def read_mdat(path_or_text: str | os.PathLike) -> list[PathWaypoint]:
     """Waypoints of a path file, or of its text.
 
     A ``Path``, or a one-line string naming an existing file or ending in
     ``.mdat``, is read as a file; any other string is parsed as content.
     """
     if not isinstance(path_or_text, (str, os.PathLike)):
-        raise ConfigurationError(f"read_mdat takes a file path or the file's text, got {type(path_or_text).__name__}.")
+        raise ConfigurationError(
+            f"read_mdat takes a file path or the file's text, got {type(path_or_text).__name__}."
+        )
     is_file = isinstance(path_or_text, os.PathLike) or (
-        "\n" not in path_or_text and (os.path.isfile(path_or_text) or path_or_text.strip().endswith(".mdat")))
+        "\n" not in path_or_text
+        and (os.path.isfile(path_or_text) or path_or_text.strip().endswith(".mdat"))
+    )
     if not is_file:
         return parse_mdat(path_or_text)
     try:
         text = Path(path_or_text).read_text()
     except OSError as error:
-        raise FootstepFileError(f"cannot read the path file: {error.strerror or error}.",
-                                path=str(path_or_text)) from None
+        raise FootstepFileError(
+            f"cannot read the path file: {error.strerror or error}.", path=str(path_or_text)
+        ) from None
     return parse_mdat(text, source=str(path_or_text))
 
 
-def write_mdat(path: Union[str, os.PathLike], waypoints: Sequence[PathWaypoint], *,
-               header: str = "") -> None:
+def write_mdat(
+    path: str | os.PathLike, waypoints: Sequence[PathWaypoint], *, header: str = ""
+) -> None:
     """Write waypoints as a path file (exact round trip through :func:`read_mdat`).
 
     Args:
@@ -180,8 +226,10 @@ def write_mdat(path: Union[str, os.PathLike], waypoints: Sequence[PathWaypoint],
 
 
 def _changed(a: Footstep, b: Footstep) -> bool:
-    return bool(np.max(np.abs(a.position - b.position)) > CLAMP_TOLERANCE
-                or abs(float(wrap_angle(a.yaw - b.yaw))) > CLAMP_TOLERANCE)
+    return bool(
+        np.max(np.abs(a.position - b.position)) > CLAMP_TOLERANCE
+        or abs(float(wrap_angle(a.yaw - b.yaw))) > CLAMP_TOLERANCE
+    )
 
 
 def _mid_frame(waypoint: PathWaypoint) -> Footstep:
@@ -191,8 +239,9 @@ def _mid_frame(waypoint: PathWaypoint) -> Footstep:
     return Footstep(Side.LEFT, 0.5 * (left.position + right.position), yaw)
 
 
-def path_targets(waypoints: Sequence[PathWaypoint], *, first_swing=None,
-                 steps_in_place: bool = False) -> List[PathTarget]:
+def path_targets(
+    waypoints: Sequence[PathWaypoint], *, first_swing=None, steps_in_place: bool = False
+) -> list[PathTarget]:
     """Alternating single-foot steps that walk through the waypoints.
 
     From waypoint ``i`` to ``i + 1`` the foot whose pose changed steps; if
@@ -220,11 +269,17 @@ def path_targets(waypoints: Sequence[PathWaypoint], *, first_swing=None,
     else:
         before, after = waypoints[first[1] - 1], waypoints[first[1]]
         frame = _mid_frame(before)
-        one = first[0][0] if len(first[0]) == 1 else opening_side(
-            frame.to_local(_mid_frame(after).xy)[1], float(wrap_angle(_mid_frame(after).yaw - frame.yaw)))
+        one = (
+            first[0][0]
+            if len(first[0]) == 1
+            else opening_side(
+                frame.to_local(_mid_frame(after).xy)[1],
+                float(wrap_angle(_mid_frame(after).yaw - frame.yaw)),
+            )
+        )
         in_place_before = moves.index(first)
         last = one.other if in_place_before % 2 == 0 else one
-    targets: List[PathTarget] = []
+    targets: list[PathTarget] = []
     feet = {Side.LEFT: waypoints[0].left, Side.RIGHT: waypoints[0].right}
     for sides, i in moves:
         line = waypoints[i].line
@@ -240,10 +295,15 @@ def path_targets(waypoints: Sequence[PathWaypoint], *, first_swing=None,
     return targets
 
 
-def plan_from_path(waypoints: Sequence[PathWaypoint], *,
-                   rectangle: ReachabilityRectangle = ATLAS_REACHABILITY,
-                   timing: StepTiming = StepTiming(), first_swing=None,
-                   steps_in_place: bool = False, max_extra_steps: int = 10) -> FootstepPlan:
+def plan_from_path(
+    waypoints: Sequence[PathWaypoint],
+    *,
+    rectangle: ReachabilityRectangle = ATLAS_REACHABILITY,
+    timing: StepTiming = StepTiming(),
+    first_swing=None,
+    steps_in_place: bool = False,
+    max_extra_steps: int = 10,
+) -> FootstepPlan:
     """Footstep plan of a path, walked with paper A's clamping rule in open loop.
 
     The first waypoint is the initial stance. Targets come from
@@ -255,6 +315,12 @@ def plan_from_path(waypoints: Sequence[PathWaypoint], *,
         InfeasibleStep: A target stays out of reach after ``max_extra_steps``.
     """
     targets = path_targets(waypoints, first_swing=first_swing, steps_in_place=steps_in_place)
-    follower = PathFollower(waypoints[0].left, waypoints[0].right, [t.footstep for t in targets],
-                            rectangle, labels=[t.label for t in targets], max_extra_steps=max_extra_steps)
+    follower = PathFollower(
+        waypoints[0].left,
+        waypoints[0].right,
+        [t.footstep for t in targets],
+        rectangle,
+        labels=[t.label for t in targets],
+        max_extra_steps=max_extra_steps,
+    )
     return follower.plan(timing)

@@ -7,18 +7,25 @@ corrects the difference in the following steps, comparing the actual global
 pose with the file so that the drift does not accumulate.
 """
 
-from typing import List, Optional, Sequence, Tuple
+from collections.abc import Sequence
 
 import numpy as np
 
-from ..exceptions import ConfigurationError, InfeasibleStep
-from .footstep import Footstep, FootstepPlan, Side, StepTiming, wrap_angle
-from .reachability import ATLAS_REACHABILITY, CLAMP_TOLERANCE, ClampedStep, ReachabilityRectangle
+from mpcwalk.exceptions import ConfigurationError, InfeasibleStep
+from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side, StepTiming, wrap_angle
+from mpcwalk.footsteps.reachability import (
+    ATLAS_REACHABILITY,
+    CLAMP_TOLERANCE,
+    ClampedStep,
+    ReachabilityRectangle,
+)
 
 
 def _same_pose(a: Footstep, b: Footstep) -> bool:
-    return bool(np.max(np.abs(a.position - b.position)) <= CLAMP_TOLERANCE
-                and abs(float(wrap_angle(a.yaw - b.yaw))) <= CLAMP_TOLERANCE)
+    return bool(
+        np.max(np.abs(a.position - b.position)) <= CLAMP_TOLERANCE
+        and abs(float(wrap_angle(a.yaw - b.yaw))) <= CLAMP_TOLERANCE
+    )
 
 
 class PathFollower:
@@ -49,20 +56,36 @@ class PathFollower:
         max_extra_steps: Extra steps allowed per target before giving up.
     """
 
-    def __init__(self, initial_left: Footstep, initial_right: Footstep, targets: Sequence[Footstep],
-                 rectangle: ReachabilityRectangle = ATLAS_REACHABILITY, *,
-                 labels: Optional[Sequence[str]] = None, max_extra_steps: int = 10) -> None:
+    def __init__(
+        self,
+        initial_left: Footstep,
+        initial_right: Footstep,
+        targets: Sequence[Footstep],
+        rectangle: ReachabilityRectangle = ATLAS_REACHABILITY,
+        *,
+        labels: Sequence[str] | None = None,
+        max_extra_steps: int = 10,
+    ) -> None:
         if initial_left.side is not Side.LEFT or initial_right.side is not Side.RIGHT:
-            raise ConfigurationError("PathFollower needs initial_left on the left and initial_right on the right.")
-        if isinstance(max_extra_steps, bool) or not isinstance(max_extra_steps, (int, np.integer)) \
-                or max_extra_steps < 0:
-            raise ConfigurationError(f"max_extra_steps must be a non-negative integer, got {max_extra_steps!r}.")
-        self.targets: Tuple[Footstep, ...] = tuple(targets)
+            raise ConfigurationError(
+                "PathFollower needs initial_left on the left and initial_right on the right."
+            )
+        if (
+            isinstance(max_extra_steps, bool)
+            or not isinstance(max_extra_steps, (int, np.integer))
+            or max_extra_steps < 0
+        ):
+            raise ConfigurationError(
+                f"max_extra_steps must be a non-negative integer, got {max_extra_steps!r}."
+            )
+        self.targets: tuple[Footstep, ...] = tuple(targets)
         if labels is None:
             labels = [f"target {j}" for j in range(len(self.targets))]
-        self.labels: Tuple[str, ...] = tuple(labels)
+        self.labels: tuple[str, ...] = tuple(labels)
         if len(self.labels) != len(self.targets):
-            raise ConfigurationError(f"Got {len(self.labels)} labels for {len(self.targets)} targets; give one each.")
+            raise ConfigurationError(
+                f"Got {len(self.labels)} labels for {len(self.targets)} targets; give one each."
+            )
         self.rectangle = rectangle
         self.max_extra_steps = int(max_extra_steps)
         self.initial = {Side.LEFT: initial_left, Side.RIGHT: initial_right}
@@ -75,8 +98,8 @@ class PathFollower:
         self._next = 0
         self._extra = 0
         self._commanded = dict(self.initial)
-        self._last_swing: Optional[Side] = None
-        self.steps_taken: List[Footstep] = []
+        self._last_swing: Side | None = None
+        self.steps_taken: list[Footstep] = []
         """Landings returned so far, in order (world frame)."""
         self.nb_clamped_steps = 0
         """Steps whose target was moved into the rectangle."""
@@ -87,7 +110,8 @@ class PathFollower:
     def finished(self) -> bool:
         """True once every target is reached and both feet stand on the file's last poses."""
         return self._next == len(self.targets) and all(
-            _same_pose(self._commanded[s], self._file_final[s]) for s in Side)
+            _same_pose(self._commanded[s], self._file_final[s]) for s in Side
+        )
 
     @property
     def next_swing_side(self) -> Side:
@@ -114,9 +138,12 @@ class PathFollower:
         """
         if actual_support.side is actual_swing.side:
             raise ConfigurationError(
-                f"actual_support and actual_swing must be different feet, both are {actual_swing.side.value}.")
+                f"actual_support and actual_swing must be different feet, both are {actual_swing.side.value}."
+            )
         if self.finished:
-            raise ConfigurationError("The path is finished (PathFollower.finished is True); no step is left.")
+            raise ConfigurationError(
+                "The path is finished (PathFollower.finished is True); no step is left."
+            )
         side = actual_swing.side
         pending = self._next < len(self.targets)
         regular = pending and self.targets[self._next].side is side
@@ -158,7 +185,7 @@ class PathFollower:
             "Shorten that step in the path or widen the rectangle."
         )
 
-    def plan(self, timing: Optional[StepTiming] = None) -> FootstepPlan:
+    def plan(self, timing: StepTiming | None = None) -> FootstepPlan:
         """Finish the path in open loop (actual = commanded) and return the whole plan.
 
         Steps already taken through :meth:`next_step` are kept; the rest
@@ -174,5 +201,9 @@ class PathFollower:
         while not self.finished:
             side = self.next_swing_side
             self.next_step(feet[side.other], feet[side])
-        return FootstepPlan(self.initial[Side.LEFT], self.initial[Side.RIGHT], self.steps_taken,
-                            timing if timing is not None else StepTiming())
+        return FootstepPlan(
+            self.initial[Side.LEFT],
+            self.initial[Side.RIGHT],
+            self.steps_taken,
+            timing if timing is not None else StepTiming(),
+        )

@@ -16,12 +16,12 @@ Conventions (one rectangle serves both feet):
 """
 
 from dataclasses import dataclass
-from typing import NamedTuple, Tuple
+from typing import NamedTuple
 
 import numpy as np
 
-from ..exceptions import ConfigurationError
-from .footstep import Footstep, Side, wrap_angle
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.footsteps.footstep import Footstep, Side, wrap_angle
 
 #: Below this a remainder counts as zero ([m] and [rad]).
 CLAMP_TOLERANCE = 1e-9
@@ -81,10 +81,18 @@ class ReachabilityRectangle:
     yaw_max: float
 
     def __post_init__(self) -> None:
-        values = np.array([self.x_min, self.x_max, self.y_min, self.y_max, self.yaw_min, self.yaw_max])
+        values = np.array(
+            [self.x_min, self.x_max, self.y_min, self.y_max, self.yaw_min, self.yaw_max]
+        )
         if not np.all(np.isfinite(values)):
-            raise ConfigurationError(f"ReachabilityRectangle bounds must be finite numbers, got {self!r}.")
-        for lo, hi, unit in (("x_min", "x_max", "m"), ("y_min", "y_max", "m"), ("yaw_min", "yaw_max", "rad")):
+            raise ConfigurationError(
+                f"ReachabilityRectangle bounds must be finite numbers, got {self!r}."
+            )
+        for lo, hi, unit in (
+            ("x_min", "x_max", "m"),
+            ("y_min", "y_max", "m"),
+            ("yaw_min", "yaw_max", "rad"),
+        ):
             if getattr(self, lo) > getattr(self, hi):
                 raise ConfigurationError(
                     f"ReachabilityRectangle needs {lo} <= {hi}, got {getattr(self, lo):g} > "
@@ -101,7 +109,7 @@ class ReachabilityRectangle:
                 f"[{self.yaw_min:g}, {self.yaw_max:g}] rad."
             )
 
-    def bounds(self, side) -> Tuple[np.ndarray, np.ndarray]:
+    def bounds(self, side) -> tuple[np.ndarray, np.ndarray]:
         """Lower and upper bounds of ``(x, y, yaw)`` for a swing foot of ``side``.
 
         Returns:
@@ -109,10 +117,14 @@ class ReachabilityRectangle:
             (y and yaw negated and swapped) for a RIGHT swing foot.
         """
         if Side.parse(side) is Side.LEFT:
-            return (np.array([self.x_min, self.y_min, self.yaw_min]),
-                    np.array([self.x_max, self.y_max, self.yaw_max]))
-        return (np.array([self.x_min, -self.y_max, -self.yaw_max]),
-                np.array([self.x_max, -self.y_min, -self.yaw_min]))
+            return (
+                np.array([self.x_min, self.y_min, self.yaw_min]),
+                np.array([self.x_max, self.y_max, self.yaw_max]),
+            )
+        return (
+            np.array([self.x_min, -self.y_max, -self.yaw_max]),
+            np.array([self.x_max, -self.y_min, -self.yaw_min]),
+        )
 
     def clamp(self, target_local_xy, yaw: float, side) -> ClampedStep:
         """Nearest safe landing to a target given in the support-foot frame.
@@ -133,12 +145,16 @@ class ReachabilityRectangle:
             yaw = float(wrap_angle(yaw))
         target = np.array([*np.asarray(target_local_xy, dtype=float)[:2], yaw])
         if not np.all(np.isfinite(target)):
-            raise ConfigurationError(f"Footstep target must be finite, got {target_local_xy!r}, yaw {yaw!r}.")
+            raise ConfigurationError(
+                f"Footstep target must be finite, got {target_local_xy!r}, yaw {yaw!r}."
+            )
         lower, upper = self.bounds(side)
         clamped = np.clip(target, lower, upper)
         return ClampedStep(clamped[:2], float(clamped[2]), target - clamped)
 
-    def contains(self, target_local_xy, yaw: float, side, tolerance: float = CLAMP_TOLERANCE) -> bool:
+    def contains(
+        self, target_local_xy, yaw: float, side, tolerance: float = CLAMP_TOLERANCE
+    ) -> bool:
         """True when the target (support-foot frame) is a safe landing."""
         return not (np.max(np.abs(self.clamp(target_local_xy, yaw, side).remainder)) > tolerance)
 
@@ -159,16 +175,21 @@ class ReachabilityRectangle:
             )
         local = self.clamp(support.to_local(target.xy), target.yaw - support.yaw, target.side)
         xy = support.to_world(local.xy)
-        landing = Footstep(target.side, [xy[0], xy[1], target.position[2]],
-                           float(wrap_angle(support.yaw + local.yaw)))
+        landing = Footstep(
+            target.side,
+            [xy[0], xy[1], target.position[2]],
+            float(wrap_angle(support.yaw + local.yaw)),
+        )
         if not local.was_clamped:
             landing = target  # keep the exact target (no round-off from the frame changes)
         return ClampedFootstep(landing, local)
 
     def describe(self) -> str:
         """Human-readable bounds, for error messages."""
-        return (f"x in [{self.x_min:g}, {self.x_max:g}] m, outward y in [{self.y_min:g}, {self.y_max:g}] m, "
-                f"outward yaw in [{self.yaw_min:g}, {self.yaw_max:g}] rad")
+        return (
+            f"x in [{self.x_min:g}, {self.x_max:g}] m, outward y in [{self.y_min:g}, {self.y_max:g}] m, "
+            f"outward yaw in [{self.yaw_min:g}, {self.yaw_max:g}] rad"
+        )
 
 
 #: Atlas-like robot (paper A). Assumed sole 0.25 m x 0.13 m, hip width about
@@ -208,4 +229,3 @@ def opening_side(lateral: float, yaw_rate: float, default: Side = Side.RIGHT) ->
     if yaw_rate > CLAMP_TOLERANCE or yaw_rate < -CLAMP_TOLERANCE:
         return Side.LEFT if yaw_rate > 0.0 else Side.RIGHT
     return Side.parse(default)
-

@@ -13,14 +13,14 @@ torso poses, which are absolute, so a clamped landing delays one step but
 never makes the feet drift from the commanded path.
 """
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Optional, Sequence, Union
 
 import numpy as np
 
-from ..exceptions import ConfigurationError, InfeasibleCommand
-from .footstep import Footstep, FootstepPlan, Side, StepTiming, wrap_angle
-from .reachability import ReachabilityRectangle, opening_side
+from mpcwalk.exceptions import ConfigurationError, InfeasibleCommand
+from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side, StepTiming, wrap_angle
+from mpcwalk.footsteps.reachability import ReachabilityRectangle, opening_side
 
 
 @dataclass(frozen=True)
@@ -43,7 +43,9 @@ class VelocityCommand:
             try:
                 value = float(value)
             except (TypeError, ValueError):
-                raise ConfigurationError(f"Velocity command {name} must be a number, got {value!r}.") from None
+                raise ConfigurationError(
+                    f"Velocity command {name} must be a number, got {value!r}."
+                ) from None
             if not np.isfinite(value):
                 raise ConfigurationError(
                     f"Velocity command {name} must be finite, got {value!r}; send 0.0 to stand still."
@@ -91,7 +93,9 @@ class LegLimits:
     def __post_init__(self) -> None:
         for name, value in vars(self).items():
             if not np.isfinite(value) or value < 0.0:
-                raise ConfigurationError(f"LegLimits.{name} must be a non-negative number, got {value!r}.")
+                raise ConfigurationError(
+                    f"LegLimits.{name} must be a non-negative number, got {value!r}."
+                )
         if not 0.0 < self.y_sep <= self.half_stance_width:
             raise ConfigurationError(
                 f"LegLimits needs 0 < y_sep <= half_stance_width, got y_sep={self.y_sep:g} m and "
@@ -111,7 +115,9 @@ class LegLimits:
         )
 
 
-def integrate_torso(command: VelocityCommand, start, nb_samples: int, sampling_period: float) -> np.ndarray:
+def integrate_torso(
+    command: VelocityCommand, start, nb_samples: int, sampling_period: float
+) -> np.ndarray:
     """Torso poses of eq. 5 with the command held over each sample.
 
     The model is integrated exactly over each sample (constant body-frame
@@ -131,9 +137,10 @@ def integrate_torso(command: VelocityCommand, start, nb_samples: int, sampling_p
     if abs(dyaw) > 1e-9:
         sin_c, cos_c = np.sin(dyaw) / dyaw, (1.0 - np.cos(dyaw)) / dyaw
     else:  # series of sin(a)/a and (1 - cos(a))/a
-        sin_c, cos_c = 1.0 - dyaw ** 2 / 6.0, dyaw / 2.0
-    local = sampling_period * np.array([command.vx * sin_c - command.vy * cos_c,
-                                        command.vx * cos_c + command.vy * sin_c])
+        sin_c, cos_c = 1.0 - dyaw**2 / 6.0, dyaw / 2.0
+    local = sampling_period * np.array(
+        [command.vx * sin_c - command.vy * cos_c, command.vx * cos_c + command.vy * sin_c]
+    )
     poses = np.empty((nb_samples + 1, 3))
     poses[0] = np.asarray(start, dtype=float)
     for k in range(nb_samples):
@@ -194,13 +201,22 @@ class VelocityPlanner:
         if abs(command.vyaw) > yaw_bound:
             raise InfeasibleCommand("vyaw", command.vyaw, yaw_bound, "rad/s")
 
-    def torso_poses(self, command: VelocityCommand, nb_steps: int, start=(0.0, 0.0, 0.0)) -> np.ndarray:
+    def torso_poses(
+        self, command: VelocityCommand, nb_steps: int, start=(0.0, 0.0, 0.0)
+    ) -> np.ndarray:
         """Torso poses of the model at the step boundaries, shape (nb_steps + 1, 3)."""
         return integrate_torso(command, start, nb_steps, self.timing.step_duration)
 
-    def plan(self, command: Union[VelocityCommand, Sequence[float]], nb_steps: int, *,
-             initial_left: Optional[Footstep] = None, initial_right: Optional[Footstep] = None,
-             first_swing: Optional[Union[Side, str]] = None, stop: bool = True) -> FootstepPlan:
+    def plan(
+        self,
+        command: VelocityCommand | Sequence[float],
+        nb_steps: int,
+        *,
+        initial_left: Footstep | None = None,
+        initial_right: Footstep | None = None,
+        first_swing: Side | str | None = None,
+        stop: bool = True,
+    ) -> FootstepPlan:
         """Plan ``nb_steps`` steps at a constant command.
 
         Args:
@@ -226,17 +242,27 @@ class VelocityPlanner:
             ConfigurationError: NaN command, negative ``nb_steps``, bad side.
         """
         command = as_velocity_command(command)
-        if isinstance(nb_steps, bool) or not isinstance(nb_steps, (int, np.integer)) or nb_steps < 0:
+        if (
+            isinstance(nb_steps, bool)
+            or not isinstance(nb_steps, (int, np.integer))
+            or nb_steps < 0
+        ):
             raise ConfigurationError(f"nb_steps must be a non-negative integer, got {nb_steps!r}.")
         self.check_command(command)
         h = self.limits.half_stance_width
         left = initial_left if initial_left is not None else Footstep(Side.LEFT, [0.0, h, 0.0])
         right = initial_right if initial_right is not None else Footstep(Side.RIGHT, [0.0, -h, 0.0])
         if left.side is not Side.LEFT or right.side is not Side.RIGHT:
-            raise ConfigurationError("initial_left must be a left Footstep and initial_right a right one.")
+            raise ConfigurationError(
+                "initial_left must be a left Footstep and initial_right a right one."
+            )
         start_yaw = right.yaw + 0.5 * float(wrap_angle(left.yaw - right.yaw))
         torso = self.torso_poses(command, nb_steps, [*(0.5 * (left.xy + right.xy)), start_yaw])
-        side = Side.parse(first_swing) if first_swing is not None else opening_side(command.vy, command.vyaw)
+        side = (
+            Side.parse(first_swing)
+            if first_swing is not None
+            else opening_side(command.vy, command.vyaw)
+        )
         feet = {Side.LEFT: left, Side.RIGHT: right}
         height = 0.5 * (left.position[2] + right.position[2])
         steps = []
@@ -254,9 +280,16 @@ class VelocityPlanner:
         return FootstepPlan(left, right, steps, self.timing)
 
 
-def plan_from_velocity(vx: float, vy: float, vyaw: float, nb_steps: int, *,
-                       limits: LegLimits = LegLimits(), timing: StepTiming = StepTiming(),
-                       **options) -> FootstepPlan:
+def plan_from_velocity(
+    vx: float,
+    vy: float,
+    vyaw: float,
+    nb_steps: int,
+    *,
+    limits: LegLimits = LegLimits(),
+    timing: StepTiming = StepTiming(),
+    **options,
+) -> FootstepPlan:
     """One-call form of :meth:`VelocityPlanner.plan`.
 
     Args:

@@ -13,12 +13,11 @@ hand moves forward on any robot).
 """
 
 import math
-from typing import Tuple
 
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import ConfigurationError
+from mpcwalk.exceptions import ConfigurationError
 
 
 def _shoulder_pitch_joint(robot, side: str) -> str:
@@ -27,7 +26,8 @@ def _shoulder_pitch_joint(robot, side: str) -> str:
             return name
     raise ConfigurationError(
         f"Arm swing needs a '{side}..shoulder_pitch..' joint; robot '{robot.name}' has "
-        f"{', '.join(robot.joint_names)}. Use arm_swing=0 for this robot.")
+        f"{', '.join(robot.joint_names)}. Use arm_swing=0 for this robot."
+    )
 
 
 class ArmSwing:
@@ -43,11 +43,13 @@ class ArmSwing:
     """
 
     def __init__(self, robot, factor: float) -> None:
-        if isinstance(factor, bool) or not (isinstance(factor, (int, float))
-                                            and math.isfinite(factor) and factor >= 0.0):
+        if isinstance(factor, bool) or not (
+            isinstance(factor, (int, float)) and math.isfinite(factor) and factor >= 0.0
+        ):
             raise ConfigurationError(
                 f"The arm swing factor s must be a non-negative number, got {factor!r}; "
-                "paper M uses 0.8, 0 keeps the arms still.")
+                "paper M uses 0.8, 0 keeps the arms still."
+            )
         self.factor = float(factor)
         model = robot.model
         data = model.createData()
@@ -60,36 +62,42 @@ class ArmSwing:
             joint_id = model.getJointId(name)
             shoulder = data.oMi[joint_id].translation
             subtree = set(model.subtrees[joint_id])
-            ends = [data.oMf[i].translation for i, frame in enumerate(model.frames)
-                    if frame.parentJoint in subtree]
+            ends = [
+                data.oMf[i].translation
+                for i, frame in enumerate(model.frames)
+                if frame.parentJoint in subtree
+            ]
             ends += [data.oMi[j].translation for j in subtree]
             lengths.append(max(float(np.linalg.norm(p - shoulder)) for p in ends))
             axis = pin.getJointJacobian(model, data, joint_id, pin.LOCAL_WORLD_ALIGNED)[
-                3:6, model.joints[joint_id].idx_v]
+                3:6, model.joints[joint_id].idx_v
+            ]
             signs.append(1.0 if axis[1] >= 0.0 else -1.0)
             index = robot.joint_names.index(name)
             indices.append(index)
             nominal.append(float(robot.q0[7 + index]))
         if min(lengths) <= 1e-6:
             raise ConfigurationError(
-                f"Robot '{robot.name}' has no arm below its shoulder pitch joints; use "
-                "arm_swing=0.")
+                f"Robot '{robot.name}' has no arm below its shoulder pitch joints; use arm_swing=0."
+            )
         self.joint_indices = np.array(indices, dtype=int)
         """Indices of the left and right shoulder pitch joints in ``robot.joint_names``."""
         self.nominal = np.array(nominal)
         self.arm_lengths = np.array(lengths)
         self._signs = np.array(signs)
 
-    def hand_displacements(self, com_xy: np.ndarray, left_xy: np.ndarray, right_xy: np.ndarray,
-                           yaw: float) -> Tuple[float, float]:
+    def hand_displacements(
+        self, com_xy: np.ndarray, left_xy: np.ndarray, right_xy: np.ndarray, yaw: float
+    ) -> tuple[float, float]:
         """Forward displacements [m] of the left and right hands (eq. 24-25)."""
         forward = np.array([math.cos(yaw), math.sin(yaw)])
         x_left = float(forward @ (np.asarray(left_xy[:2]) - com_xy))
         x_right = float(forward @ (np.asarray(right_xy[:2]) - com_xy))
         return self.factor * x_right, self.factor * x_left
 
-    def joint_angles(self, com_xy: np.ndarray, left_xy: np.ndarray, right_xy: np.ndarray,
-                     yaw: float) -> np.ndarray:
+    def joint_angles(
+        self, com_xy: np.ndarray, left_xy: np.ndarray, right_xy: np.ndarray, yaw: float
+    ) -> np.ndarray:
         """Left and right shoulder pitch angles [rad], shape (2,)."""
         x = np.array(self.hand_displacements(com_xy, left_xy, right_xy, yaw))
         ratio = np.clip(x / self.arm_lengths, -0.9, 0.9)

@@ -9,12 +9,12 @@ until ``t_b``, single support until ``t_e``, double support until ``T``
 """
 
 from dataclasses import dataclass
-from typing import Dict, List, Optional
+from typing import Optional
 
 import numpy as np
 
-from ..footsteps.footstep import FootGeometry, Footstep, FootstepPlan, Side
-from ..models.support_polygon import SupportPolygon, foot_rectangle
+from mpcwalk.footsteps.footstep import FootGeometry, Footstep, FootstepPlan, Side
+from mpcwalk.models.support_polygon import SupportPolygon, foot_rectangle
 
 #: Half-plane rows reserved per sample: a double-support hull of two
 #: rectangles has at most 8 edges.
@@ -42,8 +42,8 @@ class Phase:
     end: float
     step_index: int
     single_support: bool
-    support_side: Optional[Side]
-    feet: Dict[Side, Footstep]
+    support_side: Side | None
+    feet: dict[Side, Footstep]
     polygon: SupportPolygon
 
     @property
@@ -63,13 +63,18 @@ class ContactSchedule:
             footsteps moved (:meth:`with_steps`) then costs a fraction of a full build.
     """
 
-    def __init__(self, plan: FootstepPlan, foot: FootGeometry = FootGeometry(), *,
-                 reuse: Optional["ContactSchedule"] = None) -> None:
+    def __init__(
+        self,
+        plan: FootstepPlan,
+        foot: FootGeometry = FootGeometry(),
+        *,
+        reuse: Optional["ContactSchedule"] = None,
+    ) -> None:
         self.plan = plan
         self.foot = foot
         # Polygons by foot pose (and pair of poses for a hull), and their padded half-planes.
-        self._polygons: Dict[tuple, SupportPolygon] = {}
-        self._padded: Dict[tuple, tuple] = {}
+        self._polygons: dict[tuple, SupportPolygon] = {}
+        self._padded: dict[tuple, tuple] = {}
         reused = reuse is not None and reuse.foot == foot
         self._reused_polygons = reuse._polygons if reused else {}
         self._reused_padded = reuse._padded if reused else {}
@@ -81,14 +86,16 @@ class ContactSchedule:
         self.walk_end = self.walk_start + plan.nb_steps * self.step_duration
         self.duration = self.walk_end + timing.final_duration
         self._stances = plan.stances()
-        self._rects = [
-            {side: self._rect(f) for side, f in st.items()} for st in self._stances
-        ]
-        self._phase_keys: List[tuple] = []
-        self.phases: List[Phase] = self._build_phases()
+        self._rects = [{side: self._rect(f) for side, f in st.items()} for st in self._stances]
+        self._phase_keys: list[tuple] = []
+        self.phases: list[Phase] = self._build_phases()
         self._phase_starts = np.array([ph.start for ph in self.phases])
-        A, b = zip(*(self._padded_halfplanes(key, ph.polygon)
-                     for key, ph in zip(self._phase_keys, self.phases)))
+        A, b = zip(
+            *(
+                self._padded_halfplanes(key, ph.polygon)
+                for key, ph in zip(self._phase_keys, self.phases)
+            )
+        )
         self._phase_A = np.array(A)
         self._phase_b = np.array(b)
         self._phase_single = np.array([ph.single_support for ph in self.phases])
@@ -107,8 +114,9 @@ class ContactSchedule:
         # The ZMP reference is piecewise linear with breakpoints at phase
         # boundaries: tabulate it there (and just before each, in case it jumps,
         # as with no double support) so that queries are one interpolation.
-        bounds = np.unique([0.0, self.duration] + [ph.start for ph in self.phases]
-                           + [ph.end for ph in self.phases])
+        bounds = np.unique(
+            [0.0, self.duration] + [ph.start for ph in self.phases] + [ph.end for ph in self.phases]
+        )
         #: Times where the ZMP reference may bend, and its values there, (k,) and (k, 2).
         self.zmp_breakpoints = np.unique(np.concatenate([bounds, bounds[1:] - _KNOT_GAP]))
         self.zmp_breakpoint_values = self._zmp_reference_exact(self.zmp_breakpoints)
@@ -123,8 +131,9 @@ class ContactSchedule:
         Args:
             steps: Landing poses, one per step, alternating sides.
         """
-        plan = FootstepPlan(self.plan.initial_left, self.plan.initial_right, tuple(steps),
-                            self.plan.timing)
+        plan = FootstepPlan(
+            self.plan.initial_left, self.plan.initial_right, tuple(steps), self.plan.timing
+        )
         return ContactSchedule(plan, self.foot, reuse=self)
 
     @staticmethod
@@ -148,12 +157,14 @@ class ContactSchedule:
         return padded
 
     def _rect(self, foot: Footstep) -> SupportPolygon:
-        return self._polygon(self._pose_key(foot), lambda: foot_rectangle(
-            foot.xy, foot.yaw, self.foot.length, self.foot.width))
+        return self._polygon(
+            self._pose_key(foot),
+            lambda: foot_rectangle(foot.xy, foot.yaw, self.foot.length, self.foot.width),
+        )
 
-    def _build_phases(self) -> List[Phase]:
+    def _build_phases(self) -> list[Phase]:
         plan, T = self.plan, self.step_duration
-        phases: List[Phase] = []
+        phases: list[Phase] = []
 
         def double(start, end, k, stance_index):
             st, rects = self._stances[stance_index], self._rects[stance_index]
@@ -172,8 +183,15 @@ class ContactSchedule:
             foot = self._stances[k][support]
             self._phase_keys.append(self._pose_key(foot))
             phases.append(
-                Phase(t0 + self.t_b, t0 + self.t_e, k, True, support, {support: foot},
-                      self._rects[k][support])
+                Phase(
+                    t0 + self.t_b,
+                    t0 + self.t_e,
+                    k,
+                    True,
+                    support,
+                    {support: foot},
+                    self._rects[k][support],
+                )
             )
             if self.t_e < T:
                 double(t0 + self.t_e, t0 + T, k, k + 1)
@@ -238,8 +256,13 @@ class ContactSchedule:
         breakpoints (exact but within 1 ns of a jump when ``r_ds = 0``).
         """
         t = np.asarray(times, dtype=float)
-        out = np.stack([np.interp(t, self.zmp_breakpoints, self.zmp_breakpoint_values[:, 0]),
-                        np.interp(t, self.zmp_breakpoints, self.zmp_breakpoint_values[:, 1])], axis=-1)
+        out = np.stack(
+            [
+                np.interp(t, self.zmp_breakpoints, self.zmp_breakpoint_values[:, 0]),
+                np.interp(t, self.zmp_breakpoints, self.zmp_breakpoint_values[:, 1]),
+            ],
+            axis=-1,
+        )
         return out
 
     def _zmp_reference_exact(self, times) -> np.ndarray:
@@ -262,7 +285,11 @@ class ContactSchedule:
         if np.any(walking):
             kw = k[walking]
             tau = rel[walking] - kw * T
-            xt0, xs, xt1 = self.torso_waypoints[kw], self.support_positions[kw], self.torso_waypoints[kw + 1]
+            xt0, xs, xt1 = (
+                self.torso_waypoints[kw],
+                self.support_positions[kw],
+                self.torso_waypoints[kw + 1],
+            )
             p = xs.copy()
             if self.t_b > 0.0:
                 a = np.clip(tau / self.t_b, 0.0, 1.0)[:, None]
@@ -287,11 +314,11 @@ class ContactSchedule:
         out[walking] = (self.torso_waypoints[kw + 1] - self.torso_waypoints[kw]) / T
         return out if np.ndim(times) else out[0]
 
-    def feet_on_ground(self, t: float) -> Dict[Side, Footstep]:
+    def feet_on_ground(self, t: float) -> dict[Side, Footstep]:
         """Feet in contact at ``t`` (one in single support, two otherwise)."""
         return dict(self.phase(t).feet)
 
-    def stance(self, t: float) -> Dict[Side, Footstep]:
+    def stance(self, t: float) -> dict[Side, Footstep]:
         """Last landed pose of both feet at ``t`` (the swing foot: its lift pose)."""
         k = self.step_index(t)
         return dict(self._stances[max(k, 0)] if k < self.plan.nb_steps else self._stances[-1])

@@ -18,14 +18,13 @@ to 15/8 of its mean speed, so ``n = ceil(15/8 * distance / precision) + 1``
 
 import math
 from dataclasses import dataclass
-from typing import Optional
 
 import numpy as np
 import pinocchio as pin
 
-from ..arrays import as_float, as_float_array
-from ..exceptions import ConfigurationError
-from .jtraj import check_nb_samples, jtraj
+from mpcwalk._checks import as_float, as_float_array
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.gait.jtraj import check_nb_samples, jtraj
 
 #: Peak of the quintic time law's derivative, ``r'(1/2) = 15/8``.
 QUINTIC_PEAK_RATE = 15.0 / 8.0
@@ -79,13 +78,14 @@ def as_homogeneous(pose, name: str = "pose") -> np.ndarray:
         if matrix.size:
             came += f" of shape {matrix.shape}"
         raise ConfigurationError(
-            f"{name} must be a pinocchio.SE3 or a finite 4x4 homogeneous transform, "
-            f"got {came}."
+            f"{name} must be a pinocchio.SE3 or a finite 4x4 homogeneous transform, got {came}."
         )
     rotation = matrix[:3, :3]
     orthonormal = np.allclose(rotation.T @ rotation, np.eye(3), atol=ROTATION_TOLERANCE)
-    if not np.allclose(matrix[3], [0.0, 0.0, 0.0, 1.0]) or not orthonormal or (
-        np.linalg.det(rotation) < 0.0
+    if (
+        not np.allclose(matrix[3], [0.0, 0.0, 0.0, 1.0])
+        or not orthonormal
+        or (np.linalg.det(rotation) < 0.0)
     ):
         raise ConfigurationError(
             f"{name} is not a rigid transform: its last row must be [0, 0, 0, 1] and "
@@ -95,9 +95,7 @@ def as_homogeneous(pose, name: str = "pose") -> np.ndarray:
     return matrix
 
 
-def ctraj(
-    T0, T1, n: Optional[int] = None, *, precision: Optional[float] = None
-) -> CartesianTrajectory:
+def ctraj(T0, T1, n: int | None = None, *, precision: float | None = None) -> CartesianTrajectory:
     """Cartesian trajectory from pose ``T0`` to pose ``T1``.
 
     Give exactly one of ``n`` and ``precision``.

@@ -15,16 +15,14 @@ functions return time derivatives ``d/dt = (1 / T) d/dphi`` when given the
 step duration ``T``, or ``d/dphi`` with the default ``step_duration=1``.
 """
 
-from typing import Tuple, Union
-
 import numpy as np
 
-from ..exceptions import ConfigurationError
+from mpcwalk.exceptions import ConfigurationError
 
-ArrayLike = Union[float, np.ndarray]
+ArrayLike = float | np.ndarray
 
 
-def _window(phi, phi_b: float, phi_e: float) -> Tuple[np.ndarray, float]:
+def _window(phi, phi_b: float, phi_e: float) -> tuple[np.ndarray, float]:
     """Validated phases as an array and the window length ``phi_e - phi_b``."""
     phi_b, phi_e = float(phi_b), float(phi_e)
     if not (np.isfinite(phi_b) and np.isfinite(phi_e)) or not phi_b < phi_e:

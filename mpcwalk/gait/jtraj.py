@@ -17,12 +17,11 @@ Two time laws:
 
 import numbers
 from dataclasses import dataclass
-from typing import Optional, Tuple
 
 import numpy as np
 
-from ..arrays import as_float
-from ..exceptions import ConfigurationError
+from mpcwalk._checks import as_float
+from mpcwalk.exceptions import ConfigurationError
 
 PROFILES = ("quintic", "trapezoidal")
 
@@ -53,13 +52,12 @@ def check_nb_samples(n, name: str = "n") -> int:
     """Validated number of samples (an integer >= 2)."""
     if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 2:
         raise ConfigurationError(
-            f"{name} must be an integer >= 2 (number of samples including both "
-            f"ends), got {n!r}."
+            f"{name} must be an integer >= 2 (number of samples including both ends), got {n!r}."
         )
     return int(n)
 
 
-def _joint_vector(value, name: str, shape: Optional[Tuple[int, ...]] = None) -> np.ndarray:
+def _joint_vector(value, name: str, shape: tuple[int, ...] | None = None) -> np.ndarray:
     try:
         vector = np.atleast_1d(np.asarray(value, dtype=float))
     except (TypeError, ValueError):
@@ -72,9 +70,7 @@ def _joint_vector(value, name: str, shape: Optional[Tuple[int, ...]] = None) -> 
             "pass one configuration, e.g. q[i], not a whole trajectory."
         )
     if shape is not None and vector.shape != shape:
-        raise ConfigurationError(
-            f"{name} must have the shape of q0, {shape}, got {vector.shape}."
-        )
+        raise ConfigurationError(f"{name} must have the shape of q0, {shape}, got {vector.shape}.")
     if not np.all(np.isfinite(vector)):
         raise ConfigurationError(f"{name} must be finite, got {vector}.")
     return vector
@@ -146,9 +142,7 @@ def jtraj(
     start = _joint_vector(q0, "q0")
     end = _joint_vector(q1, "q1", start.shape)
     if profile not in PROFILES:
-        raise ConfigurationError(
-            f"profile must be one of {', '.join(PROFILES)}, got {profile!r}."
-        )
+        raise ConfigurationError(f"profile must be one of {', '.join(PROFILES)}, got {profile!r}.")
     zeros = np.zeros_like(start)
     v0 = zeros if qd0 is None else _joint_vector(qd0, "qd0", start.shape)
     v1 = zeros if qd1 is None else _joint_vector(qd1, "qd1", start.shape)

@@ -16,15 +16,14 @@ derivatives of these expressions.
 """
 
 from dataclasses import dataclass
-from typing import Dict, Optional, Tuple, Union
 
 import numpy as np
 
-from ..arrays import as_float, frozen_array
-from ..exceptions import ConfigurationError
-from ..footsteps.footstep import Footstep, Side, wrap_angle
-from .contact_schedule import ContactSchedule
-from .interpolation import (
+from mpcwalk._checks import as_float, frozen_array
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.footsteps.footstep import Footstep, Side, wrap_angle
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.gait.interpolation import (
     step_interpolation,
     step_interpolation_derivative,
     swing_height_profile,
@@ -79,17 +78,17 @@ class FeetState:
     left: FootState
     right: FootState
 
-    def __getitem__(self, side: Union[Side, str]) -> FootState:
+    def __getitem__(self, side: Side | str) -> FootState:
         """State of the foot ``side`` (a :class:`Side` or ``"left"``/``"right"``)."""
         return self.left if Side.parse(side) is Side.LEFT else self.right
 
     @property
-    def contact_sides(self) -> Tuple[Side, ...]:
+    def contact_sides(self) -> tuple[Side, ...]:
         """Feet on the ground (one in single support, two otherwise)."""
         return tuple(side for side in Side if self[side].in_contact)
 
     @property
-    def swing_side(self) -> Optional[Side]:
+    def swing_side(self) -> Side | None:
         """The foot in the air, or None in double support."""
         airborne = [side for side in Side if not self[side].in_contact]
         return airborne[0] if airborne else None
@@ -123,8 +122,9 @@ class SwingFootTrajectory:
             ``step_height`` is negative or not finite.
     """
 
-    def __init__(self, schedule: ContactSchedule, step_height: float = 0.04,
-                 profile: str = "cosine") -> None:
+    def __init__(
+        self, schedule: ContactSchedule, step_height: float = 0.04, profile: str = "cosine"
+    ) -> None:
         if profile not in SWING_PROFILES:
             raise ConfigurationError(
                 f"Swing profile must be one of {', '.join(SWING_PROFILES)}, got {profile!r}."
@@ -148,7 +148,7 @@ class SwingFootTrajectory:
         self.phi_e = schedule.t_e / schedule.step_duration
         self.torso_yaws = self._torso_waypoint_yaws()
         # step index -> (h, horizontal position (2,), yaw) the swing restarts from
-        self._restarts: Dict[int, Tuple[float, np.ndarray, float]] = {}
+        self._restarts: dict[int, tuple[float, np.ndarray, float]] = {}
 
     def restart_swing(self, t: float, foot: FootState) -> None:
         """Continue the swing in progress at ``t`` from ``foot`` (its pose then) towards
@@ -159,8 +159,11 @@ class SwingFootTrajectory:
         single support."""
         t = self._check_time(t)
         k, h, _ = self._interpolants(t)
-        if not (0 <= k < self.schedule.plan.nb_steps) or not self.schedule.phase(t).single_support \
-                or h >= 1.0 - 1e-9:
+        if (
+            not (0 <= k < self.schedule.plan.nb_steps)
+            or not self.schedule.phase(t).single_support
+            or h >= 1.0 - 1e-9
+        ):
             return
         self._restarts[k] = (h, np.array(foot.position[:2], dtype=float), float(foot.yaw))
 
@@ -177,7 +180,7 @@ class SwingFootTrajectory:
             yaws.append(mean)
         return frozen_array(yaws)
 
-    def _interpolants(self, t: float) -> Tuple[int, float, float]:
+    def _interpolants(self, t: float) -> tuple[int, float, float]:
         """Active step, ``h`` and ``dh/dt`` at time ``t``.
 
         In double support ``h`` is exactly 0 or 1 and ``dh/dt`` exactly 0, as
@@ -215,9 +218,7 @@ class SwingFootTrajectory:
         k, h, dh = self._interpolants(t)
         stance = schedule.stance(t)
         in_contact = schedule.phase(t).feet
-        states: Dict[Side, FootState] = {
-            side: _static_state(foot) for side, foot in stance.items()
-        }
+        states: dict[Side, FootState] = {side: _static_state(foot) for side, foot in stance.items()}
         if 0 <= k < schedule.plan.nb_steps:
             landing = schedule.plan.steps[k]
             swing = landing.side
@@ -228,8 +229,9 @@ class SwingFootTrajectory:
             else:
                 states[swing] = self._swing_state(t, lift, landing, h, dh)
                 if k in self._restarts:
-                    states[swing] = self._restarted(states[swing], landing, h, dh,
-                                                    *self._restarts[k])
+                    states[swing] = self._restarted(
+                        states[swing], landing, h, dh, *self._restarts[k]
+                    )
         return FeetState(t, k, states[Side.LEFT], states[Side.RIGHT])
 
     def _swing_state(
@@ -246,8 +248,15 @@ class SwingFootTrajectory:
         return self._blend(lift, landing, h, dh, v, dv)
 
     @staticmethod
-    def _restarted(state: FootState, landing: Footstep, h: float, dh: float, h0: float,
-                   origin: np.ndarray, yaw0: float) -> FootState:
+    def _restarted(
+        state: FootState,
+        landing: Footstep,
+        h: float,
+        dh: float,
+        h0: float,
+        origin: np.ndarray,
+        yaw0: float,
+    ) -> FootState:
         """``state`` with its horizontal motion restarted at ``h0`` from ``origin``/``yaw0``."""
         scale = 1.0 / (1.0 - h0)
         r, dr = max(h - h0, 0.0) * scale, dh * scale
@@ -257,10 +266,15 @@ class SwingFootTrajectory:
         velocity = np.array(state.linear_velocity)
         position[:2] = origin + r * delta
         velocity[:2] = dr * delta
-        return FootState(frozen_array(position), yaw0 + r * delta_yaw, frozen_array(velocity),
-                         dr * delta_yaw, False)
+        return FootState(
+            frozen_array(position),
+            yaw0 + r * delta_yaw,
+            frozen_array(velocity),
+            dr * delta_yaw,
+            False,
+        )
 
-    def _ctraj_interpolants(self, phi: float) -> Tuple[float, float, float, float]:
+    def _ctraj_interpolants(self, phi: float) -> tuple[float, float, float, float]:
         """Paper A's lift-then-lower profile: fraction of the step ``h`` and of the
         height ``v`` with their time derivatives, each half on the quintic law."""
         span = (self.phi_e - self.phi_b) * self.step_duration  # single support [s]
@@ -272,16 +286,20 @@ class SwingFootTrajectory:
             return 0.5 * r, 0.5 * dr, r, dr
         return 0.5 + 0.5 * r, 0.5 * dr, 1.0 - r, -dr  # lower: apex -> landing
 
-    def _blend(self, lift: Footstep, landing: Footstep, h: float, dh: float, v: float,
-               dv: float) -> FootState:
+    def _blend(
+        self, lift: Footstep, landing: Footstep, h: float, dh: float, v: float, dv: float
+    ) -> FootState:
         delta = landing.position - lift.position
         delta_yaw = float(wrap_angle(landing.yaw - lift.yaw))
         lift_direction = np.array([0.0, 0.0, self.step_height])
         position = lift.position + h * delta + v * lift_direction
         velocity = dh * delta + dv * lift_direction
         return FootState(
-            frozen_array(position), lift.yaw + h * delta_yaw, frozen_array(velocity),
-            dh * delta_yaw, False,
+            frozen_array(position),
+            lift.yaw + h * delta_yaw,
+            frozen_array(velocity),
+            dh * delta_yaw,
+            False,
         )
 
     def torso_yaw(self, t):

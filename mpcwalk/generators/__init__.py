@@ -1,24 +1,29 @@
 """CoM/ZMP pattern generators, all behind :class:`PatternGenerator`."""
 
 import importlib
-from typing import Dict, List, Tuple
 
-from ..exceptions import GeneratorNotFound
-from .pattern_generator import ComState, GeneratorOutput, Horizon, PatternGenerator, SolveInfo
-from .rollout import Rollout, rollout
+from mpcwalk.exceptions import GeneratorNotFound
+from mpcwalk.generators.pattern_generator import (
+    ComState,
+    GeneratorOutput,
+    Horizon,
+    PatternGenerator,
+    SolveInfo,
+)
+from mpcwalk.generators.rollout import Rollout, rollout
 
 #: Generator name -> (module, class). Imported on demand.
-_REGISTRY: Dict[str, Tuple[str, str]] = {
-    "analytic": (".analytic", "AnalyticGenerator"),
-    "static": (".static", "StaticGenerator"),
-    "preview": (".preview", "PreviewGenerator"),
-    "mpc": (".mpc", "MpcGenerator"),
-    "static-qp": (".static_qp", "StaticQPGenerator"),
-    "mpc-steps": (".mpc_steps", "FootstepMpcGenerator"),
+_REGISTRY: dict[str, tuple[str, str]] = {
+    "analytic": ("mpcwalk.generators.analytic", "AnalyticGenerator"),
+    "static": ("mpcwalk.generators.static", "StaticGenerator"),
+    "preview": ("mpcwalk.generators.preview", "PreviewGenerator"),
+    "mpc": ("mpcwalk.generators.mpc", "MpcGenerator"),
+    "static-qp": ("mpcwalk.generators.static_qp", "StaticQPGenerator"),
+    "mpc-steps": ("mpcwalk.generators.mpc_steps", "FootstepMpcGenerator"),
 }
 
 
-def generator_names() -> List[str]:
+def generator_names() -> list[str]:
     """Names accepted by :func:`make_generator`."""
     return list(_REGISTRY)
 
@@ -28,7 +33,7 @@ def generator_class(name: str) -> type:
     if name not in _REGISTRY:
         raise GeneratorNotFound(name, generator_names())
     module, cls = _REGISTRY[name]
-    return getattr(importlib.import_module(module, __name__), cls)
+    return getattr(importlib.import_module(module), cls)
 
 
 def make_generator(name: str, **kwargs) -> PatternGenerator:
@@ -37,6 +42,14 @@ def make_generator(name: str, **kwargs) -> PatternGenerator:
 
 
 __all__ = [
-    "ComState", "GeneratorOutput", "Horizon", "PatternGenerator", "Rollout", "SolveInfo",
-    "generator_class", "generator_names", "make_generator", "rollout",
+    "ComState",
+    "GeneratorOutput",
+    "Horizon",
+    "PatternGenerator",
+    "Rollout",
+    "SolveInfo",
+    "generator_class",
+    "generator_names",
+    "make_generator",
+    "rollout",
 ]

@@ -18,14 +18,18 @@ generator is the paper's baseline and keeps that behaviour on purpose.
 
 import math
 from dataclasses import dataclass
-from typing import List, Optional
 
 import numpy as np
 
-from ..exceptions import ConfigurationError
-from ..gait.contact_schedule import ContactSchedule
-from ..models.lipm import LIPM
-from .pattern_generator import ComState, GeneratorOutput, Horizon, PatternGenerator
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.generators.pattern_generator import (
+    ComState,
+    GeneratorOutput,
+    Horizon,
+    PatternGenerator,
+)
+from mpcwalk.models.lipm import LIPM
 
 
 def _sinh_over(x: float) -> float:
@@ -111,9 +115,11 @@ class ClosedFormStep:
         grow = kd2_grow / den + grow_rest
         decay = kd1_decay / den + decay_rest
         first_part = -(self.m_d1 / (2.0 * w)) * (
-            np.exp(w * (tt - self.t_b)) - sign * np.exp(-w * (tt + self.t_b)))
+            np.exp(w * (tt - self.t_b)) - sign * np.exp(-w * (tt + self.t_b))
+        )
         last_part = (self.m_d2 / (2.0 * w)) * (
-            sign * np.exp(-w * (tt - self.t_e)) - np.exp(w * (tt + self.t_e - 2.0 * T)))
+            sign * np.exp(-w * (tt - self.t_e)) - np.exp(w * (tt + self.t_e - 2.0 * T))
+        )
         mid = grow + sign * decay
         on_first = grow + sign * (kd1_decay * e1 * e1 / den + decay_rest) + first_part
         on_last = (kd2_grow * e1 * e1 / den + grow_rest) + sign * decay + last_part
@@ -156,11 +162,13 @@ class ClosedFormStep:
             sign = -1.0 if n % 2 else 1.0
             if first:
                 part = -(self.m_d1 / (2.0 * w)) * (
-                    math.exp(w * (t - self.t_b)) - sign * math.exp(-w * (t + self.t_b)))
+                    math.exp(w * (t - self.t_b)) - sign * math.exp(-w * (t + self.t_b))
+                )
                 val = grow + sign * (kd1_decay * (e1 * e1 / den) + decay_rest) + part
             elif last:
                 part = (self.m_d2 / (2.0 * w)) * (
-                    sign * math.exp(-w * (t - self.t_e)) - math.exp(w * (t + self.t_e - 2.0 * T)))
+                    sign * math.exp(-w * (t - self.t_e)) - math.exp(w * (t + self.t_e - 2.0 * T))
+                )
                 val = (kd2_grow * (e1 * e1 / den) + grow_rest) + sign * decay + part
             else:
                 val = grow + sign * decay
@@ -186,8 +194,9 @@ class ClosedFormStep:
         )
 
 
-def closed_form_step(x_t0, x_s, x_t1, T: float, t_b: float, t_e: float,
-                     omega: float) -> ClosedFormStep:
+def closed_form_step(
+    x_t0, x_s, x_t1, T: float, t_b: float, t_e: float, omega: float
+) -> ClosedFormStep:
     """Solve paper M's boundary value problem for one step (eq. 6-18).
 
     ``t_b = 0`` (or ``t_e = T``) is the no-double-support limit: the ZMP then
@@ -212,8 +221,10 @@ def closed_form_step(x_t0, x_s, x_t1, T: float, t_b: float, t_e: float,
             or times out of order.
     """
     try:
-        x_t0, x_s, x_t1 = (np.array(v) for v in np.broadcast_arrays(
-            *(np.asarray(v, dtype=float) for v in (x_t0, x_s, x_t1))))
+        x_t0, x_s, x_t1 = (
+            np.array(v)
+            for v in np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (x_t0, x_s, x_t1)))
+        )
         T, t_b, t_e, omega = (float(v) for v in (T, t_b, t_e, omega))
     except (TypeError, ValueError) as exc:
         raise ConfigurationError(
@@ -232,8 +243,8 @@ def closed_form_step(x_t0, x_s, x_t1, T: float, t_b: float, t_e: float,
             f"T={T!r}; use t_b = r_ds T / 2 and t_e = T - r_ds T / 2 with r_ds in [0, 1)."
         )
     w, ds_end = omega, T - t_e
-    m_d1 = (x_s - x_t0) / t_b if t_b > 0.0 else np.zeros_like(x_s)          # eq. 6
-    m_d2 = (x_t1 - x_s) / ds_end if ds_end > 0.0 else np.zeros_like(x_s)    # eq. 7
+    m_d1 = (x_s - x_t0) / t_b if t_b > 0.0 else np.zeros_like(x_s)  # eq. 6
+    m_d2 = (x_t1 - x_s) / ds_end if ds_end > 0.0 else np.zeros_like(x_s)  # eq. 7
     # eq. 15-16 written as slope * duration * sinh(w d)/(w d): finite as d -> 0.
     k_d1 = -(x_s - x_t0) * _sinh_over(w * t_b)
     k_d2 = (x_t1 - x_s) * _sinh_over(w * ds_end)
@@ -262,8 +273,9 @@ class AnalyticGenerator(PatternGenerator):
 
     name = "analytic"
 
-    def __init__(self, *, lipm: LIPM = LIPM(), control_period: float = 0.01,
-                 horizon_time: Optional[float] = 0.0) -> None:
+    def __init__(
+        self, *, lipm: LIPM = LIPM(), control_period: float = 0.01, horizon_time: float | None = 0.0
+    ) -> None:
         super().__init__(lipm=lipm, control_period=control_period)
         if horizon_time is not None and (not np.isfinite(horizon_time) or horizon_time < 0.0):
             raise ConfigurationError(
@@ -271,18 +283,25 @@ class AnalyticGenerator(PatternGenerator):
                 f"{horizon_time!r}."
             )
         self.horizon_time = horizon_time
-        self.steps: List[ClosedFormStep] = []
+        self.steps: list[ClosedFormStep] = []
 
     def _reset(self, schedule: ContactSchedule, initial_state: ComState) -> GeneratorOutput:
         xt, xs = schedule.torso_waypoints, schedule.support_positions
         self.steps = [
-            closed_form_step(xt[k], xs[k], xt[k + 1], schedule.step_duration,
-                             schedule.t_b, schedule.t_e, self.lipm.omega)
+            closed_form_step(
+                xt[k],
+                xs[k],
+                xt[k + 1],
+                schedule.step_duration,
+                schedule.t_b,
+                schedule.t_e,
+                self.lipm.omega,
+            )
             for k in range(schedule.plan.nb_steps)
         ]
         return self._make_output(0.0)
 
-    def _step(self, measured: Optional[ComState]) -> GeneratorOutput:
+    def _step(self, measured: ComState | None) -> GeneratorOutput:
         return self._make_output((self.tick + 1) * self.control_period)
 
     def evaluate(self, times) -> np.ndarray:
@@ -320,7 +339,7 @@ class AnalyticGenerator(PatternGenerator):
         state = self.state_at(t)
         return self._output(t, state, horizon=self._horizon(t))
 
-    def _horizon(self, t: float) -> Optional[Horizon]:
+    def _horizon(self, t: float) -> Horizon | None:
         sched = self.schedule
         if self.horizon_time is None:
             k = sched.step_index(t)

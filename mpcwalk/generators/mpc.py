@@ -8,19 +8,25 @@ in the support polygon of each sample.
 """
 
 from dataclasses import dataclass
-from typing import ClassVar, Optional
+from typing import ClassVar
 
 import numpy as np
 
-from ..exceptions import ConfigurationError, NoSolutionFound
-from ..gait.contact_schedule import ContactSchedule
-from ..models.cart_table import CartTable
-from ..models.lipm import LIPM
-from ..qp.parameters import MpcParameters
-from ..qp.result import QPResult
-from ..qp.solvers import make_solver
-from ..qp.walking_qp import Prediction, WalkingQP
-from .pattern_generator import ComState, GeneratorOutput, Horizon, PatternGenerator, SolveInfo
+from mpcwalk.exceptions import ConfigurationError, NoSolutionFound
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.generators.pattern_generator import (
+    ComState,
+    GeneratorOutput,
+    Horizon,
+    PatternGenerator,
+    SolveInfo,
+)
+from mpcwalk.models.cart_table import CartTable
+from mpcwalk.models.lipm import LIPM
+from mpcwalk.qp.parameters import MpcParameters
+from mpcwalk.qp.result import QPResult
+from mpcwalk.qp.solvers.registry import make_solver
+from mpcwalk.qp.walking_qp import Prediction, WalkingQP
 
 
 @dataclass(frozen=True)
@@ -29,7 +35,7 @@ class _Plan:
 
     start: float
     jerks: np.ndarray  # (N, 2) [m/s^3]
-    prediction: Optional[Prediction]
+    prediction: Prediction | None
 
 
 class MpcGenerator(PatternGenerator):
@@ -83,7 +89,11 @@ class MpcGenerator(PatternGenerator):
     track_walking_velocity: ClassVar[bool] = True
 
     default_parameters: ClassVar[MpcParameters] = MpcParameters(
-        sampling_period=0.05, horizon=32, zmp_weight=1.0, jerk_weight=1e-7, zmp_margin=0.0,
+        sampling_period=0.05,
+        horizon=32,
+        zmp_weight=1.0,
+        jerk_weight=1e-7,
+        zmp_margin=0.0,
         velocity_weight=3e-3,
     )
     """Defaults: 1.6 s at 50 ms. The small weight on tracking the average walking
@@ -93,26 +103,29 @@ class MpcGenerator(PatternGenerator):
     small humanoid's plan by less than 0.1 mm of ZMP margin."""
 
     #: Keys of a robot preset's ``[gait]`` table -> (parameter, type).
-    PRESET_KEYS: ClassVar[dict] = {"mpc_sampling_period": ("sampling_period", float),
-                                   "mpc_horizon": ("horizon", int),
-                                   "mpc_jerk_weight": ("jerk_weight", float)}
+    PRESET_KEYS: ClassVar[dict] = {
+        "mpc_sampling_period": ("sampling_period", float),
+        "mpc_horizon": ("horizon", int),
+        "mpc_jerk_weight": ("jerk_weight", float),
+    }
 
     @classmethod
     def robot_options(cls, robot) -> dict:
         """The horizon and weights of the robot preset's ``[gait]`` table (``mpc_*`` keys)."""
         gait = robot.preset.gait
-        return {name: cast(gait[key]) for key, (name, cast) in cls.PRESET_KEYS.items()
-                if key in gait}
+        return {
+            name: cast(gait[key]) for key, (name, cast) in cls.PRESET_KEYS.items() if key in gait
+        }
 
     def __init__(
         self,
         *,
         lipm: LIPM = LIPM(),
         control_period: float = 0.01,
-        parameters: Optional[MpcParameters] = None,
-        solver: Optional[str] = None,
+        parameters: MpcParameters | None = None,
+        solver: str | None = None,
         formulation: str = "dense",
-        solver_settings: Optional[dict] = None,
+        solver_settings: dict | None = None,
         max_fallback_ticks: int = 10,
         constrain_next_tick: bool = False,
         **overrides,
@@ -120,8 +133,11 @@ class MpcGenerator(PatternGenerator):
         super().__init__(lipm=lipm, control_period=control_period)
         params = parameters if parameters is not None else self.default_parameters
         self.parameters = params.replace(**overrides) if overrides else params
-        if isinstance(max_fallback_ticks, bool) or int(max_fallback_ticks) != max_fallback_ticks \
-                or max_fallback_ticks < 0:
+        if (
+            isinstance(max_fallback_ticks, bool)
+            or int(max_fallback_ticks) != max_fallback_ticks
+            or max_fallback_ticks < 0
+        ):
             raise ConfigurationError(
                 f"max_fallback_ticks must be a non-negative integer, got {max_fallback_ticks!r}."
             )
@@ -136,10 +152,10 @@ class MpcGenerator(PatternGenerator):
         self.solver = make_solver(solver, **(solver_settings or {}))
         self.solver.check(self.qp)
         self.cart_table = CartTable(lipm, self.parameters.sampling_period)
-        self.last_result: Optional[QPResult] = None
+        self.last_result: QPResult | None = None
         """Back-end result of the last tick (residuals, iterations)."""
         self._state = np.zeros((3, 2))
-        self._plan: Optional[_Plan] = None
+        self._plan: _Plan | None = None
         self._failures = 0
 
     @property
@@ -155,7 +171,7 @@ class MpcGenerator(PatternGenerator):
         self.last_result = None
         return self._output(0.0, self._state)
 
-    def _step(self, measured: Optional[ComState]) -> GeneratorOutput:
+    def _step(self, measured: ComState | None) -> GeneratorOutput:
         t, dt = self.time, self.control_period
         x0 = self._state if measured is None else measured.as_cart_table(self._state[2])
         velocity_reference = None
@@ -181,8 +197,11 @@ class MpcGenerator(PatternGenerator):
         if plan is not None and plan.prediction is not None:
             horizon = Horizon(plan.prediction.times, plan.prediction.com, plan.prediction.zmp)
         info = SolveInfo(
-            success=result.success, solver=self.solver_name, status=result.status,
-            solve_time=result.solve_time, fallback=not result.success,
+            success=result.success,
+            solver=self.solver_name,
+            status=result.status,
+            solve_time=result.solve_time,
+            fallback=not result.success,
             consecutive_failures=self._failures,
         )
         return self._output(t + dt, self._state, horizon=horizon, solve=info)

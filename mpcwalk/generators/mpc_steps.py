@@ -24,22 +24,28 @@ published positions and the generator and the controller agree on every support 
 """
 
 from dataclasses import dataclass
-from typing import ClassVar, Optional, Union
+from typing import ClassVar
 
 import numpy as np
 
-from ..exceptions import ConfigurationError, InfeasibleStep, NoSolutionFound
-from ..footsteps.footstep import Side, wrap_angle
-from ..footsteps.reachability import ReachabilityRectangle
-from ..footsteps.velocity_planner import LegLimits
-from ..gait.contact_schedule import MAX_POLYGON_EDGES, ContactSchedule
-from ..models.cart_table import CartTable
-from ..models.lipm import LIPM
-from ..qp.footstep_parameters import FootstepMpcParameters, blended_rectangles
-from ..qp.footstep_qp import FootstepQP, SampleSupports, StepVariables
-from ..qp.result import QPResult
-from ..qp.solvers import QpsolversSolver, make_solver, solver_names
-from .pattern_generator import ComState, GeneratorOutput, Horizon, PatternGenerator, SolveInfo
+from mpcwalk.exceptions import ConfigurationError, InfeasibleStep, NoSolutionFound
+from mpcwalk.footsteps.footstep import Side, wrap_angle
+from mpcwalk.footsteps.reachability import ReachabilityRectangle
+from mpcwalk.footsteps.velocity_planner import LegLimits
+from mpcwalk.gait.contact_schedule import MAX_POLYGON_EDGES, ContactSchedule
+from mpcwalk.generators.pattern_generator import (
+    ComState,
+    GeneratorOutput,
+    Horizon,
+    PatternGenerator,
+    SolveInfo,
+)
+from mpcwalk.models.cart_table import CartTable
+from mpcwalk.models.lipm import LIPM
+from mpcwalk.qp.footstep_parameters import FootstepMpcParameters, blended_rectangles
+from mpcwalk.qp.footstep_qp import FootstepQP, SampleSupports, StepVariables
+from mpcwalk.qp.result import QPResult
+from mpcwalk.qp.solvers.registry import QpsolversSolver, make_solver, solver_names
 
 _BOUNDARY_EPS = 1e-9  # [s] a sample on a phase boundary belongs to the new phase
 _REACH_TOLERANCE = 1e-6  # [m], [rad] nominal steps may touch the rectangle's edges
@@ -66,7 +72,7 @@ class FootstepMpcGenerator(PatternGenerator):
             ``jerk_weight``... as for the ``mpc`` generator).
         reachability: Landings allowed relative to the previous footstep: a
             :class:`ReachabilityRectangle`, or :class:`LegLimits` (its rectangle); default
-            ``LegLimits()``; ``mpcwalk.walk.leg_limits(robot)`` gives a robot's (see
+            ``LegLimits()``; ``mpcwalk.walking.runner.leg_limits(robot)`` gives a robot's (see
             :meth:`for_robot`).
         solver: A ``qpsolvers`` name. Default ``"quadprog"``: median tick 0.84 ms (solver
             0.18 ms) against 1.16 ms (0.47 ms) with ``"daqp"`` on a 10-step walk, same
@@ -89,7 +95,7 @@ class FootstepMpcGenerator(PatternGenerator):
             reports (:meth:`observe_dcm_error`), grown until the landing,
             ``error * exp(omega * (t_landing - t))``. The QP itself starts from the state
             the controller passes, which on position servos is only a small share of the
-            measured error (see :mod:`mpcwalk.dcm_feedback`); this term lets the steps see
+            measured error (see :mod:`mpcwalk.control.dcm_feedback`); this term lets the steps see
             the whole push. 0 leaves it out. Measured on the small humanoid's push sweep
             (``experiments/paper_m``): the median largest impulse survived is 0.600 N s with
             1 (default), 0.575 N s with 0.3, 0.550 N s with 0 (as the fixed-footstep
@@ -120,10 +126,10 @@ class FootstepMpcGenerator(PatternGenerator):
         *,
         lipm: LIPM = LIPM(),
         control_period: float = 0.01,
-        parameters: Optional[FootstepMpcParameters] = None,
-        reachability: Union[ReachabilityRectangle, LegLimits, None] = None,
+        parameters: FootstepMpcParameters | None = None,
+        reachability: ReachabilityRectangle | LegLimits | None = None,
         solver: str = "quadprog",
-        solver_settings: Optional[dict] = None,
+        solver_settings: dict | None = None,
         footstep_reference: str = "absolute",
         freeze_before_landing: float = 0.1,
         publish_tolerance: float = 1e-3,
@@ -136,11 +142,13 @@ class FootstepMpcGenerator(PatternGenerator):
         if not (np.isfinite(dcm_step_gain) and dcm_step_gain >= 0.0):
             raise ConfigurationError(
                 f"dcm_step_gain must be a non-negative number, got {dcm_step_gain!r}; 1 "
-                "moves each landing by the predicted DCM error, 0 ignores it.")
+                "moves each landing by the predicted DCM error, 0 ignores it."
+            )
         self.dcm_step_gain = float(dcm_step_gain)
         if not (np.isfinite(dcm_deadband) and dcm_deadband >= 0.0):
             raise ConfigurationError(
-                f"dcm_deadband must be a non-negative distance [m], got {dcm_deadband!r}.")
+                f"dcm_deadband must be a non-negative distance [m], got {dcm_deadband!r}."
+            )
         self.dcm_deadband = float(dcm_deadband)
         self._dcm_error = np.zeros(2)
         params = parameters if parameters is not None else self.default_parameters
@@ -161,14 +169,19 @@ class FootstepMpcGenerator(PatternGenerator):
                 f"{footstep_reference!r}."
             )
         self.footstep_reference = footstep_reference
-        for label, value in (("freeze_before_landing", freeze_before_landing),
-                             ("publish_tolerance", publish_tolerance)):
+        for label, value in (
+            ("freeze_before_landing", freeze_before_landing),
+            ("publish_tolerance", publish_tolerance),
+        ):
             if not np.isfinite(value) or value < 0.0:
                 raise ConfigurationError(f"{label} must be a non-negative number, got {value!r}.")
         self.freeze_before_landing = float(freeze_before_landing)
         self.publish_tolerance = float(publish_tolerance)
-        if isinstance(max_fallback_ticks, bool) or int(max_fallback_ticks) != max_fallback_ticks \
-                or max_fallback_ticks < 0:
+        if (
+            isinstance(max_fallback_ticks, bool)
+            or int(max_fallback_ticks) != max_fallback_ticks
+            or max_fallback_ticks < 0
+        ):
             raise ConfigurationError(
                 f"max_fallback_ticks must be a non-negative integer, got {max_fallback_ticks!r}."
             )
@@ -176,20 +189,23 @@ class FootstepMpcGenerator(PatternGenerator):
         self.solver_name = solver
         self.solver = make_solver(solver, **(solver_settings or {}))
         if not isinstance(self.solver, QpsolversSolver):
-            names = [s for s in solver_names() if s not in ("osqp-direct", "kkt")
-                     and not s.startswith("casadi")]
+            names = [
+                s
+                for s in solver_names()
+                if s not in ("osqp-direct", "kkt") and not s.startswith("casadi")
+            ]
             raise ConfigurationError(
                 f"Generator 'mpc-steps' solves its dense QP through qpsolvers; solver "
                 f"'{solver}' is not one of them. Choose one of {', '.join(names)}."
             )
         self.cart_table = CartTable(lipm, self.parameters.sampling_period)
-        self.qp: Optional[FootstepQP] = None
-        self.last_result: Optional[QPResult] = None
+        self.qp: FootstepQP | None = None
+        self.last_result: QPResult | None = None
         """Back-end result of the last tick."""
         self.nb_publications = 0
         """Schedules published since the last reset."""
         self._state = np.zeros((3, 2))
-        self._plan: Optional[_Plan] = None
+        self._plan: _Plan | None = None
         self._failures = 0
 
     @classmethod
@@ -197,11 +213,14 @@ class FootstepMpcGenerator(PatternGenerator):
         """The robot's leg limits, and the horizon of its preset's ``[gait]`` table
         (``mpc_sampling_period``, ``mpc_horizon``; not ``mpc_jerk_weight``, whose scale
         differs in this cost)."""
-        from ..walk import leg_limits  # the robot layer sits above the generators
-        from .mpc import MpcGenerator
+        from mpcwalk.generators.mpc import MpcGenerator
+        from mpcwalk.walking.runner import leg_limits  # the robot layer sits above the generators
 
-        options = {key: value for key, value in MpcGenerator.robot_options(robot).items()
-                   if key != "jerk_weight"}
+        options = {
+            key: value
+            for key, value in MpcGenerator.robot_options(robot).items()
+            if key != "jerk_weight"
+        }
         options["reachability"] = leg_limits(robot)
         return options
 
@@ -209,8 +228,9 @@ class FootstepMpcGenerator(PatternGenerator):
     def for_robot(cls, robot, **options) -> "FootstepMpcGenerator":
         """Generator with the robot's CoM height, leg limits and preset horizon (``options``
         override)."""
-        return cls(**{"lipm": LIPM(com_height=robot.com_height), **cls.robot_options(robot),
-                      **options})
+        return cls(
+            **{"lipm": LIPM(com_height=robot.com_height), **cls.robot_options(robot), **options}
+        )
 
     # ------------------------------------------------------------------ reset
     def _reset(self, schedule: ContactSchedule, initial_state: ComState) -> GeneratorOutput:
@@ -248,8 +268,9 @@ class FootstepMpcGenerator(PatternGenerator):
             p, slot = self._sup[k], 2 + k
             yaw = self._yaws[p]
             R = np.array([[np.cos(yaw), np.sin(yaw)], [-np.sin(yaw), np.cos(yaw)]])
-            local = np.append(R @ (self._nominal[slot] - self._nominal[p]),
-                              wrap_angle(self._yaws[slot] - yaw))
+            local = np.append(
+                R @ (self._nominal[slot] - self._nominal[p]), wrap_angle(self._yaws[slot] - yaw)
+            )
             lower, upper = self._bounds[k]
             if np.any(local < lower - _REACH_TOLERANCE) or np.any(local > upper + _REACH_TOLERANCE):
                 raise InfeasibleStep(
@@ -272,7 +293,7 @@ class FootstepMpcGenerator(PatternGenerator):
             self._phase_rows[i, :k] = True
 
     # ------------------------------------------------------------------ tick
-    def _step(self, measured: Optional[ComState]) -> GeneratorOutput:
+    def _step(self, measured: ComState | None) -> GeneratorOutput:
         t, dt, qp = self.time, self.control_period, self.qp
         x0 = self._state if measured is None else measured.as_cart_table(self._state[2])
         times = qp.sample_times_at(t)
@@ -280,8 +301,11 @@ class FootstepMpcGenerator(PatternGenerator):
         supports = self._supports(qp.constraint_times(t), variable)
         steps = self._step_variables(steps_k, variable)
         qp.update(x0, t, self._nominal_schedule.reference_velocity(times), supports, steps)
-        shift = 0.0 if self._plan is None else float(
-            np.searchsorted(self._plan.knots[1:], times[0] - _BOUNDARY_EPS))
+        shift = (
+            0.0
+            if self._plan is None
+            else float(np.searchsorted(self._plan.knots[1:], times[0] - _BOUNDARY_EPS))
+        )
         result = self.solver.solve(qp, shift=shift)
         self.last_result = result
         published = None
@@ -292,15 +316,18 @@ class FootstepMpcGenerator(PatternGenerator):
             self._failures = 0
             self._state = self._follow_plan(x0, t, dt)
             if len(steps_k):
-                published = self._publish(steps_k, qp.footsteps(result.x)[:len(steps_k)])
+                published = self._publish(steps_k, qp.footsteps(result.x)[: len(steps_k)])
         else:
             self._failures += 1
             if self._failures > self.max_fallback_ticks:
                 raise NoSolutionFound(self.solver_name, result.status, problem=qp.problem())
             self._state = self._follow_plan(self._state, t, dt)
         info = SolveInfo(
-            success=result.success, solver=self.solver_name, status=result.status,
-            solve_time=result.solve_time, fallback=not result.success,
+            success=result.success,
+            solver=self.solver_name,
+            status=result.status,
+            solve_time=result.solve_time,
+            fallback=not result.success,
             consecutive_failures=self._failures,
         )
         horizon = None if self._plan is None else self._plan.horizon
@@ -310,7 +337,8 @@ class FootstepMpcGenerator(PatternGenerator):
         """Steps whose landing is free this tick (not frozen, within the horizon), and the
         variable index of every slot (-1: fixed)."""
         free = (t < self._landing - self.freeze_before_landing - _BOUNDARY_EPS) & (
-            self._landing <= last_sample + _BOUNDARY_EPS)
+            self._landing <= last_sample + _BOUNDARY_EPS
+        )
         steps_k = np.flatnonzero(free)
         variable = np.full(self._nb + 2, -1)
         variable[2 + steps_k] = np.arange(len(steps_k))
@@ -349,8 +377,9 @@ class FootstepMpcGenerator(PatternGenerator):
         A, B, lam = self._slots(times)
         va, vb = variable[A], variable[B]
         pos = self._positions
-        centres = (np.where(va[:, None] < 0, (1.0 - lam)[:, None] * pos[A], 0.0)
-                   + np.where(vb[:, None] < 0, lam[:, None] * pos[B], 0.0))
+        centres = np.where(va[:, None] < 0, (1.0 - lam)[:, None] * pos[A], 0.0) + np.where(
+            vb[:, None] < 0, lam[:, None] * pos[B], 0.0
+        )
         weights = np.zeros((len(times), nf + 1))  # last column: the fixed feet, dropped
         samples = np.arange(len(times))
         np.add.at(weights, (samples, np.where(va >= 0, va, nf)), 1.0 - lam)
@@ -361,8 +390,9 @@ class FootstepMpcGenerator(PatternGenerator):
         normals, offsets = self._phase_A[idx].copy(), self._phase_b[idx].copy()
         rows = self._phase_rows[idx].copy()
         if len(moving):
-            n, half = blended_rectangles(self._yaws[A[moving]], self._yaws[B[moving]],
-                                         lam[moving], self.schedule.foot)
+            n, half = blended_rectangles(
+                self._yaws[A[moving]], self._yaws[B[moving]], lam[moving], self.schedule.foot
+            )
             normals[moving] = 0.0
             offsets[moving] = 0.0
             rows[moving] = False
@@ -414,7 +444,7 @@ class FootstepMpcGenerator(PatternGenerator):
         growth = np.exp(self.lipm.omega * max(first_landing - t, 0.0))
         return self.dcm_step_gain * growth * error
 
-    def _publish(self, steps_k: np.ndarray, footsteps: np.ndarray) -> Optional[ContactSchedule]:
+    def _publish(self, steps_k: np.ndarray, footsteps: np.ndarray) -> ContactSchedule | None:
         """Publish a schedule with the new footsteps when the next landing moved by more
         than the tolerance (the ones after it may lag: they are published with it, and the
         next landing is the one frozen). Steps after the horizon keep their planned
@@ -426,7 +456,7 @@ class FootstepMpcGenerator(PatternGenerator):
         positions = self._positions.copy()
         positions[slots] = footsteps
         last = slots[-1]  # later steps keep their planned displacements: reachable
-        positions[last + 1:] = self._nominal[last + 1:] + (footsteps[-1] - self._nominal[last])
+        positions[last + 1 :] = self._nominal[last + 1 :] + (footsteps[-1] - self._nominal[last])
         steps = list(self.schedule.plan.steps)
         for k in np.flatnonzero(np.any(positions[2:] != self._positions[2:], axis=1)):
             steps[k] = steps[k].moved(position=[*positions[2 + k], steps[k].position[2]])

@@ -10,13 +10,13 @@ ignore it. Every step returns a :class:`GeneratorOutput`.
 import time
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
-from typing import ClassVar, Optional
+from typing import ClassVar
 
 import numpy as np
 
-from ..exceptions import ConfigurationError, NotReset
-from ..gait.contact_schedule import ContactSchedule
-from ..models.lipm import LIPM
+from mpcwalk.exceptions import ConfigurationError, NotReset
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.models.lipm import LIPM
 
 
 def _vec2(value, name: str) -> np.ndarray:
@@ -24,9 +24,7 @@ def _vec2(value, name: str) -> np.ndarray:
     if arr.shape == (3,):
         arr = arr[:2]
     if arr.shape != (2,) or not np.all(np.isfinite(arr)):
-        raise ConfigurationError(
-            f"{name} must be 2 finite numbers (x, y), got {value!r}."
-        )
+        raise ConfigurationError(f"{name} must be 2 finite numbers (x, y), got {value!r}.")
     return arr
 
 
@@ -43,7 +41,7 @@ class ComState:
 
     position: np.ndarray
     velocity: np.ndarray = field(default_factory=lambda: np.zeros(2))
-    acceleration: Optional[np.ndarray] = None
+    acceleration: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "position", _vec2(self.position, "ComState.position"))
@@ -122,9 +120,9 @@ class GeneratorOutput:
     com_acceleration: np.ndarray
     zmp: np.ndarray
     com_height: float
-    horizon: Optional[Horizon] = None
-    solve: Optional[SolveInfo] = None
-    schedule: Optional[ContactSchedule] = None
+    horizon: Horizon | None = None
+    solve: SolveInfo | None = None
+    schedule: ContactSchedule | None = None
 
     @property
     def state(self) -> ComState:
@@ -142,7 +140,7 @@ class PatternGenerator(ABC):
 
     #: Name used on the command line and in :func:`make_generator`.
     name: ClassVar[str] = ""
-    #: Share of the measured CoM error a :class:`~mpcwalk.controller.WalkingController` feeds
+    #: Share of the measured CoM error a :class:`~mpcwalk.control.controller.WalkingController` feeds
     #: back into this generator by default (its ``observer_gain``; closed forms ignore it).
     observer_gain: ClassVar[float] = 0.05
 
@@ -150,18 +148,17 @@ class PatternGenerator(ABC):
     def robot_options(cls, robot) -> dict:
         """Keyword arguments of this generator taken from a robot (its preset's walking
         defaults, its leg limits); :meth:`WalkingController.for_robot
-        <mpcwalk.controller.WalkingController.for_robot>` passes them under the caller's."""
+        <mpcwalk.control.controller.WalkingController.for_robot>` passes them under the caller's."""
         return {}
 
     def __init__(self, *, lipm: LIPM = LIPM(), control_period: float = 0.01) -> None:
         if not np.isfinite(control_period) or control_period <= 0.0:
             raise ConfigurationError(
-                f"control_period must be a positive number of seconds, got "
-                f"{control_period!r}."
+                f"control_period must be a positive number of seconds, got {control_period!r}."
             )
         self.lipm = lipm
         self.control_period = float(control_period)
-        self.schedule: Optional[ContactSchedule] = None
+        self.schedule: ContactSchedule | None = None
         self.tick = 0
 
     @property
@@ -175,7 +172,7 @@ class PatternGenerator(ABC):
         return self.schedule is not None and self.time >= self.schedule.duration - 1e-9
 
     def reset(
-        self, schedule: ContactSchedule, initial_state: Optional[ComState] = None
+        self, schedule: ContactSchedule, initial_state: ComState | None = None
     ) -> GeneratorOutput:
         """Start a walk.
 
@@ -198,7 +195,7 @@ class PatternGenerator(ABC):
         reference DCM [m], shape (2,), of this tick (whatever share of the CoM error it passes
         to :meth:`step`). Generators that adapt footsteps use it; others ignore it."""
 
-    def step(self, measured: Optional[ComState] = None) -> GeneratorOutput:
+    def step(self, measured: ComState | None = None) -> GeneratorOutput:
         """Advance by one control period.
 
         Args:
@@ -222,20 +219,24 @@ class PatternGenerator(ABC):
         """Generator-specific reset; return the output at time 0."""
 
     @abstractmethod
-    def _step(self, measured: Optional[ComState]) -> GeneratorOutput:
+    def _step(self, measured: ComState | None) -> GeneratorOutput:
         """Generator-specific tick from :attr:`time` to ``time + control_period``."""
 
     def _output(self, t: float, state: np.ndarray, **kwargs) -> GeneratorOutput:
         """Output from a cart-table state of shape (3, 2)."""
         zmp = state[0] - state[2] / self.lipm.omega**2
         return GeneratorOutput(
-            time=t, com=state[0].copy(), com_velocity=state[1].copy(),
-            com_acceleration=state[2].copy(), zmp=zmp, com_height=self.lipm.com_height,
+            time=t,
+            com=state[0].copy(),
+            com_velocity=state[1].copy(),
+            com_acceleration=state[2].copy(),
+            zmp=zmp,
+            com_height=self.lipm.com_height,
             **kwargs,
         )
 
 
-def timed_step(generator: PatternGenerator, measured: Optional[ComState] = None):
+def timed_step(generator: PatternGenerator, measured: ComState | None = None):
     """Step a generator and measure its wall time.
 
     Returns:

@@ -29,16 +29,20 @@ planned CoM by 0.9 mm relative to the feet.
 """
 
 from dataclasses import dataclass
-from typing import Optional
 
 import numpy as np
 import scipy.linalg
 
-from ..exceptions import ConfigurationError
-from ..gait.contact_schedule import ContactSchedule
-from ..models.cart_table import CartTable
-from ..models.lipm import LIPM
-from .pattern_generator import ComState, GeneratorOutput, Horizon, PatternGenerator
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.generators.pattern_generator import (
+    ComState,
+    GeneratorOutput,
+    Horizon,
+    PatternGenerator,
+)
+from mpcwalk.models.cart_table import CartTable
+from mpcwalk.models.lipm import LIPM
 
 
 @dataclass(frozen=True)
@@ -68,9 +72,15 @@ class PreviewGains:
         return float(np.max(np.abs(np.linalg.eigvals(self.closed_loop))))
 
 
-def compute_preview_gains(model: CartTable, nb_preview: int, *, zmp_weight: float = 1.0,
-                          jerk_weight: float = 1e-6, state_weight=0.0,
-                          integral_action: bool = True) -> PreviewGains:
+def compute_preview_gains(
+    model: CartTable,
+    nb_preview: int,
+    *,
+    zmp_weight: float = 1.0,
+    jerk_weight: float = 1e-6,
+    state_weight=0.0,
+    integral_action: bool = True,
+) -> PreviewGains:
     """Riccati and preview gains of Kajita's controller.
 
     Args:
@@ -91,8 +101,11 @@ def compute_preview_gains(model: CartTable, nb_preview: int, *, zmp_weight: floa
     """
     Qx = np.asarray(state_weight, dtype=float)
     Qx = Qx * np.eye(3) if Qx.ndim == 0 else Qx
-    if (Qx.shape != (3, 3) or not np.all(np.isfinite(Qx))
-            or np.min(np.linalg.eigvalsh(0.5 * (Qx + Qx.T))) < -1e-12):
+    if (
+        Qx.shape != (3, 3)
+        or not np.all(np.isfinite(Qx))
+        or np.min(np.linalg.eigvalsh(0.5 * (Qx + Qx.T))) < -1e-12
+    ):
         raise ConfigurationError(
             f"state_weight must be a non-negative scalar or a 3x3 positive semi-definite "
             f"matrix, got {state_weight!r}."
@@ -166,10 +179,19 @@ class PreviewGenerator(PatternGenerator):
 
     name = "preview"
 
-    def __init__(self, *, lipm: LIPM = LIPM(), control_period: float = 0.01,
-                 sampling_period: Optional[float] = None, preview_time: float = 1.6,
-                 zmp_weight: float = 1.0, jerk_weight: float = 1e-6, state_weight=0.0,
-                 integral_action: bool = True, predict_horizon: bool = True) -> None:
+    def __init__(
+        self,
+        *,
+        lipm: LIPM = LIPM(),
+        control_period: float = 0.01,
+        sampling_period: float | None = None,
+        preview_time: float = 1.6,
+        zmp_weight: float = 1.0,
+        jerk_weight: float = 1e-6,
+        state_weight=0.0,
+        integral_action: bool = True,
+        predict_horizon: bool = True,
+    ) -> None:
         super().__init__(lipm=lipm, control_period=control_period)
         Ts = self.control_period if sampling_period is None else float(sampling_period)
         ratio = Ts / self.control_period if np.isfinite(Ts) and Ts > 0.0 else 0.0
@@ -187,15 +209,20 @@ class PreviewGenerator(PatternGenerator):
         self.model = CartTable(lipm, Ts)
         self.nb_preview = int(round(preview_time / Ts))
         self.gains = compute_preview_gains(
-            self.model, self.nb_preview, zmp_weight=zmp_weight, jerk_weight=jerk_weight,
-            state_weight=state_weight, integral_action=integral_action)
+            self.model,
+            self.nb_preview,
+            zmp_weight=zmp_weight,
+            jerk_weight=jerk_weight,
+            state_weight=state_weight,
+            integral_action=integral_action,
+        )
         self.predict_horizon = predict_horizon
         self._tick_A, self._tick_B = CartTable.transition(self.control_period)
         self._prediction = self._prediction_map() if predict_horizon else None
         self.state = np.zeros((3, 2))
         self.error_sum = np.zeros(2)
         self.jerk = np.zeros(2)
-        self._horizon: Optional[Horizon] = None
+        self._horizon: Horizon | None = None
 
     @property
     def Gi(self) -> float:
@@ -226,7 +253,7 @@ class PreviewGenerator(PatternGenerator):
         self._horizon = None
         return self._output(0.0, self.state)
 
-    def _step(self, measured: Optional[ComState]) -> GeneratorOutput:
+    def _step(self, measured: ComState | None) -> GeneratorOutput:
         if measured is not None:
             self.state = measured.as_cart_table(default_acceleration=self.state[2])
         if self.tick % self.ticks_per_sample == 0:

@@ -1,12 +1,11 @@
 """Run a pattern generator over a whole schedule (open loop, on the LIPM)."""
 
 from dataclasses import dataclass
-from typing import Optional
 
 import numpy as np
 
-from ..gait.contact_schedule import ContactSchedule
-from .pattern_generator import ComState, PatternGenerator, timed_step
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.generators.pattern_generator import ComState, PatternGenerator, timed_step
 
 
 @dataclass(frozen=True)
@@ -37,7 +36,7 @@ class Rollout:
 def rollout(
     generator: PatternGenerator,
     schedule: ContactSchedule,
-    initial_state: Optional[ComState] = None,
+    initial_state: ComState | None = None,
     *,
     feedback: bool = False,
 ) -> Rollout:

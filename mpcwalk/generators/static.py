@@ -19,14 +19,17 @@ This is quasi-static only when the double support is long: the ZMP is
 limit at speed (paper A walks with 12 s steps), reproduced here on purpose.
 """
 
-from typing import Optional
-
 import numpy as np
 
-from ..exceptions import ConfigurationError
-from ..gait.contact_schedule import ContactSchedule
-from ..models.lipm import LIPM
-from .pattern_generator import ComState, GeneratorOutput, Horizon, PatternGenerator
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.generators.pattern_generator import (
+    ComState,
+    GeneratorOutput,
+    Horizon,
+    PatternGenerator,
+)
+from mpcwalk.models.lipm import LIPM
 
 
 def quintic(tau) -> np.ndarray:
@@ -41,11 +44,13 @@ def quintic(tau) -> np.ndarray:
         both ends.
     """
     x = np.clip(np.asarray(tau, dtype=float), 0.0, 1.0)
-    return np.stack([
-        x**3 * (10.0 - 15.0 * x + 6.0 * x**2),
-        30.0 * x**2 * (1.0 - x) ** 2,
-        60.0 * x * (1.0 - x) * (1.0 - 2.0 * x),
-    ])
+    return np.stack(
+        [
+            x**3 * (10.0 - 15.0 * x + 6.0 * x**2),
+            30.0 * x**2 * (1.0 - x) ** 2,
+            60.0 * x * (1.0 - x) * (1.0 - 2.0 * x),
+        ]
+    )
 
 
 class StaticGenerator(PatternGenerator):
@@ -67,8 +72,13 @@ class StaticGenerator(PatternGenerator):
 
     name = "static"
 
-    def __init__(self, *, lipm: LIPM = LIPM(), control_period: float = 0.01,
-                 horizon_time: Optional[float] = None) -> None:
+    def __init__(
+        self,
+        *,
+        lipm: LIPM = LIPM(),
+        control_period: float = 0.01,
+        horizon_time: float | None = None,
+    ) -> None:
         super().__init__(lipm=lipm, control_period=control_period)
         if horizon_time is not None and (not np.isfinite(horizon_time) or horizon_time < 0.0):
             raise ConfigurationError(
@@ -85,7 +95,7 @@ class StaticGenerator(PatternGenerator):
         self._build_segments(schedule)
         return self._make_output(0.0)
 
-    def _step(self, measured: Optional[ComState]) -> GeneratorOutput:
+    def _step(self, measured: ComState | None) -> GeneratorOutput:
         return self._make_output((self.tick + 1) * self.control_period)
 
     def _build_segments(self, sched: ContactSchedule) -> None:
@@ -129,8 +139,11 @@ class StaticGenerator(PatternGenerator):
             [m]/[s]^2 of the CoM (x, y).
         """
         t = np.atleast_1d(np.asarray(times, dtype=float))
-        i = np.clip(np.searchsorted(self.segment_starts, t, side="right") - 1,
-                    0, len(self.segment_starts) - 1)
+        i = np.clip(
+            np.searchsorted(self.segment_starts, t, side="right") - 1,
+            0,
+            len(self.segment_starts) - 1,
+        )
         length = self.segment_ends[i] - self.segment_starts[i]
         s, ds, dds = quintic((t - self.segment_starts[i]) / length)
         delta = self.segment_to[i] - self.segment_from[i]
@@ -143,7 +156,7 @@ class StaticGenerator(PatternGenerator):
     def _make_output(self, t: float) -> GeneratorOutput:
         return self._output(t, self.evaluate([t])[0], horizon=self._horizon(t))
 
-    def _horizon(self, t: float) -> Optional[Horizon]:
+    def _horizon(self, t: float) -> Horizon | None:
         sched = self.schedule
         if self.horizon_time is None:
             k = sched.step_index(t)

@@ -16,8 +16,8 @@ infeasible.
 
 from typing import ClassVar
 
-from ..qp.parameters import MpcParameters
-from .mpc import MpcGenerator
+from mpcwalk.generators.mpc import MpcGenerator
+from mpcwalk.qp.parameters import MpcParameters
 
 
 class StaticQPGenerator(MpcGenerator):

@@ -1,15 +1,15 @@
 """Whole-body IK on Pinocchio (tasks, QP per tick) and the analytic leg IK of paper M."""
 
-from .joint_bounds import DEFAULT_VELOCITY_LIMIT, JointBounds, solve_box_qp
-from .leg_ik import AnalyticLegIK, LegGeometry, LegUnreachable
-from .targets import IKResult, IKTargets, TaskErrors
-from .tasks import ComTask, FrameTask, PostureTask, Task, update_kinematics
-from .whole_body_ik import IKWeights, WholeBodyIK
+from mpcwalk.ik.joint_bounds import DEFAULT_VELOCITY_LIMIT, JointBounds, solve_box_qp
+from mpcwalk.ik.leg_ik import AnalyticLegIK, LegGeometry, LegUnreachable
+from mpcwalk.ik.targets import IKResult, IKTargets, TaskErrors
+from mpcwalk.ik.tasks import ComTask, FrameTask, PostureTask, Task, update_kinematics
+from mpcwalk.ik.whole_body_ik import IKWeights, WholeBodyIK
 
 __all__ = [
+    "DEFAULT_VELOCITY_LIMIT",
     "AnalyticLegIK",
     "ComTask",
-    "DEFAULT_VELOCITY_LIMIT",
     "FrameTask",
     "IKResult",
     "IKTargets",

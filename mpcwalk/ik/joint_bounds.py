@@ -1,11 +1,9 @@
 """Joint position and velocity limits as bounds on an IK step, and the box QP they make."""
 
-from typing import Optional, Tuple, Union
-
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import ConfigurationError
+from mpcwalk.exceptions import ConfigurationError
 
 DEFAULT_VELOCITY_LIMIT = 6.0
 """Joint velocity limit [rad/s] used where the model gives none (MJCF look-alikes); about
@@ -23,7 +21,7 @@ class JointBounds:
 
     Args:
         model: Pinocchio model: a free-flyer root, then 1-DoF joints (as
-            :class:`~mpcwalk.robots.Robot` guarantees).
+            :class:`~mpcwalk.robot.loading.Robot` guarantees).
         velocity_limit: Joint velocity limit [rad/s]: a float, one per actuated joint, or None
             for the model's limits (:data:`DEFAULT_VELOCITY_LIMIT` where it has none);
             ``np.inf`` disables it.
@@ -32,8 +30,7 @@ class JointBounds:
         ConfigurationError: ``velocity_limit`` is not positive or has the wrong size.
     """
 
-    def __init__(self, model: pin.Model,
-                 velocity_limit: Optional[Union[float, np.ndarray]] = None) -> None:
+    def __init__(self, model: pin.Model, velocity_limit: float | np.ndarray | None = None) -> None:
         self.root_nv = int(model.joints[1].nv)
         self.joint_q = np.array([model.idx_qs[j] for j in range(2, model.njoints)], dtype=int)
         lower = model.lowerPositionLimit[self.joint_q]
@@ -45,13 +42,14 @@ class JointBounds:
         """Upper position limits [rad], +inf where there is none."""
         nb_joints = len(self.joint_q)
         if velocity_limit is None:
-            model_limit = model.velocityLimit[self.root_nv:]
+            model_limit = model.velocityLimit[self.root_nv :]
             usable = np.isfinite(model_limit) & (model_limit > 0.0) & (model_limit < 1e10)
             limit = np.where(usable, model_limit, DEFAULT_VELOCITY_LIMIT)
         else:
             try:
-                limit = np.broadcast_to(np.asarray(velocity_limit, dtype=float),
-                                        (nb_joints,)).copy()
+                limit = np.broadcast_to(
+                    np.asarray(velocity_limit, dtype=float), (nb_joints,)
+                ).copy()
             except (TypeError, ValueError):
                 limit = np.full(nb_joints, np.nan)
             if np.any(np.isnan(limit)) or np.any(limit <= 0.0):
@@ -62,8 +60,9 @@ class JointBounds:
         self.velocity_limit = limit
         """Joint velocity limits [rad/s], shape (nb_joints,)."""
 
-    def compute(self, q: np.ndarray, dt: float, limit_gain: float,
-                velocity_bounds: bool = True) -> Tuple[np.ndarray, np.ndarray]:
+    def compute(
+        self, q: np.ndarray, dt: float, limit_gain: float, velocity_bounds: bool = True
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Bounds (lower, upper) on the joint steps [rad] at ``q`` for a period ``dt`` [s]."""
         q_joints = q[self.joint_q]
         lower = limit_gain * (self.q_lower - q_joints)
@@ -78,8 +77,14 @@ class JointBounds:
         return lower, upper
 
 
-def solve_box_qp(H: np.ndarray, c: np.ndarray, lower: np.ndarray, upper: np.ndarray,
-                 root_nv: int, solver: str = "daqp") -> Optional[np.ndarray]:
+def solve_box_qp(
+    H: np.ndarray,
+    c: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    root_nv: int,
+    solver: str = "daqp",
+) -> np.ndarray | None:
     """Minimise ``x^T H x / 2 + c^T x`` subject to ``lower <= x[root_nv:] <= upper``.
 
     Args:
@@ -105,5 +110,5 @@ def solve_box_qp(H: np.ndarray, c: np.ndarray, lower: np.ndarray, upper: np.ndar
         import qpsolvers
 
         return qpsolvers.solve_qp(H, c, lb=lb, ub=ub, solver=solver)
-    except Exception:  # noqa: BLE001 -- a solver failure must not stop the walk
+    except Exception:
         return None

@@ -17,16 +17,21 @@ range allows and the foot roll and hip roll are taken in (-pi/2, pi/2).
 """
 
 from dataclasses import dataclass
-from typing import Dict, Optional, Tuple
 
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import ConfigurationError, MpcwalkError
-from ..footsteps.footstep import Side
+from mpcwalk.exceptions import ConfigurationError, MpcwalkError
+from mpcwalk.footsteps.footstep import Side
 
-_AXES = ("JointModelRZ", "JointModelRX", "JointModelRY", "JointModelRY", "JointModelRY",
-         "JointModelRX")
+_AXES = (
+    "JointModelRZ",
+    "JointModelRX",
+    "JointModelRY",
+    "JointModelRY",
+    "JointModelRY",
+    "JointModelRX",
+)
 _TOLERANCE = 1e-12
 
 
@@ -40,8 +45,9 @@ class LegUnreachable(MpcwalkError, ValueError):
         minimum_length: Smallest reach, |thigh - shank|, in [m].
     """
 
-    def __init__(self, side: str, distance: float, leg_length: float,
-                 minimum_length: float) -> None:
+    def __init__(
+        self, side: str, distance: float, leg_length: float, minimum_length: float
+    ) -> None:
         self.side, self.distance = side, distance
         self.leg_length, self.minimum_length = leg_length, minimum_length
         where = "beyond the leg length" if distance > leg_length else "closer than the minimum"
@@ -71,7 +77,7 @@ class LegGeometry:
     """
 
     side: str
-    joint_names: Tuple[str, ...]
+    joint_names: tuple[str, ...]
     q_indices: np.ndarray
     hip_center: np.ndarray
     thigh_length: float
@@ -118,9 +124,13 @@ class LegGeometry:
         knee = model.idx_qs[chain[3]]
         knee_middle = 0.5 * (model.lowerPositionLimit[knee] + model.upperPositionLimit[knee])
         return LegGeometry(
-            side=side, joint_names=names, q_indices=q_indices,
-            hip_center=offsets[0] + offsets[1], thigh_length=float(-offsets[3][2]),
-            shank_length=float(-offsets[4][2]), ankle_to_sole=frame.placement.copy(),
+            side=side,
+            joint_names=names,
+            q_indices=q_indices,
+            hip_center=offsets[0] + offsets[1],
+            thigh_length=float(-offsets[3][2]),
+            shank_length=float(-offsets[4][2]),
+            ankle_to_sole=frame.placement.copy(),
             knee_sign=1.0 if not knee_middle < 0.0 else -1.0,
             lower=model.lowerPositionLimit[q_indices].copy(),
             upper=model.upperPositionLimit[q_indices].copy(),
@@ -151,7 +161,7 @@ class AnalyticLegIK:
 
     def __init__(self, robot) -> None:
         self.robot = robot
-        self.geometry: Dict[Side, LegGeometry] = {
+        self.geometry: dict[Side, LegGeometry] = {
             side: LegGeometry.from_model(robot.model, frame, side.value)
             for side, frame in zip((Side.LEFT, Side.RIGHT), robot.foot_frames)
         }
@@ -186,8 +196,9 @@ class AnalyticLegIK:
         angles = np.array([hip_yaw, hip_roll, hip_pitch, knee, foot_pitch, foot_roll])
         return (angles + np.pi) % (2.0 * np.pi) - np.pi
 
-    def solve(self, base_pose, left_sole, right_sole,
-              q_reference: Optional[np.ndarray] = None) -> np.ndarray:
+    def solve(
+        self, base_pose, left_sole, right_sole, q_reference: np.ndarray | None = None
+    ) -> np.ndarray:
         """Configuration with the base at ``base_pose`` (world pose of the root body) and both
         soles at their world poses; other joints from ``q_reference`` (default ``robot.q0``).
 

@@ -1,14 +1,13 @@
 """Inputs and outputs of the whole-body IK: targets, task errors, result."""
 
 from dataclasses import dataclass
-from typing import Optional
 
 import numpy as np
 import pinocchio as pin
 
-from ..arrays import as_float_array, frozen_array
-from ..exceptions import ConfigurationError
-from .tasks import finite_vector
+from mpcwalk._checks import as_float_array, frozen_array
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.ik.tasks import finite_vector
 
 _ROTATION_TOLERANCE = 1e-6
 
@@ -75,10 +74,10 @@ class IKTargets:
     left_sole: pin.SE3
     right_sole: pin.SE3
     torso_rotation: np.ndarray
-    com_velocity: Optional[np.ndarray] = None
-    left_sole_velocity: Optional[np.ndarray] = None
-    right_sole_velocity: Optional[np.ndarray] = None
-    torso_angular_velocity: Optional[np.ndarray] = None
+    com_velocity: np.ndarray | None = None
+    left_sole_velocity: np.ndarray | None = None
+    right_sole_velocity: np.ndarray | None = None
+    torso_angular_velocity: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         set_field = object.__setattr__
@@ -86,8 +85,12 @@ class IKTargets:
         set_field(self, "left_sole", _as_pose(self.left_sole, "left_sole"))
         set_field(self, "right_sole", _as_pose(self.right_sole, "right_sole"))
         set_field(self, "torso_rotation", _as_rotation(self.torso_rotation, "torso_rotation"))
-        for name, size in (("com_velocity", 3), ("left_sole_velocity", 6),
-                           ("right_sole_velocity", 6), ("torso_angular_velocity", 3)):
+        for name, size in (
+            ("com_velocity", 3),
+            ("left_sole_velocity", 6),
+            ("right_sole_velocity", 6),
+            ("torso_angular_velocity", 3),
+        ):
             value = getattr(self, name)
             if value is not None:
                 set_field(self, name, _as_vector(value, size, name))
@@ -95,8 +98,15 @@ class IKTargets:
     @property
     def has_velocities(self) -> bool:
         """True when at least one feed-forward velocity is given."""
-        return any(v is not None for v in (self.com_velocity, self.left_sole_velocity,
-                                           self.right_sole_velocity, self.torso_angular_velocity))
+        return any(
+            v is not None
+            for v in (
+                self.com_velocity,
+                self.left_sole_velocity,
+                self.right_sole_velocity,
+                self.torso_angular_velocity,
+            )
+        )
 
     @staticmethod
     def from_configuration(robot, q: np.ndarray, torso_frame: str = "") -> "IKTargets":
@@ -111,8 +121,8 @@ class IKTargets:
         feet,
         torso_yaw: float,
         *,
-        com_velocity: Optional[np.ndarray] = None,
-        torso_yaw_rate: Optional[float] = None,
+        com_velocity: np.ndarray | None = None,
+        torso_yaw_rate: float | None = None,
     ) -> "IKTargets":
         """Targets from the gait: a CoM, a :class:`~mpcwalk.gait.swing_foot.FeetState` (flat
         feet, with velocities) and the torso yaw [rad] (torso upright).
@@ -127,9 +137,13 @@ class IKTargets:
             return np.concatenate([foot.linear_velocity, [0.0, 0.0, foot.yaw_rate]])
 
         return IKTargets(
-            com=com, left_sole=feet.left.transform, right_sole=feet.right.transform,
-            torso_rotation=torso, com_velocity=com_velocity,
-            left_sole_velocity=velocity(feet.left), right_sole_velocity=velocity(feet.right),
+            com=com,
+            left_sole=feet.left.transform,
+            right_sole=feet.right.transform,
+            torso_rotation=torso,
+            com_velocity=com_velocity,
+            left_sole_velocity=velocity(feet.left),
+            right_sole_velocity=velocity(feet.right),
             torso_angular_velocity=None if torso_yaw_rate is None else [0.0, 0.0, torso_yaw_rate],
         )
 
@@ -164,8 +178,7 @@ class TaskErrors:
     @property
     def orientation_max(self) -> float:
         """Largest of the sole and torso orientation errors, in [rad]."""
-        return max(self.left_sole_orientation, self.right_sole_orientation,
-                   self.torso_orientation)
+        return max(self.left_sole_orientation, self.right_sole_orientation, self.torso_orientation)
 
 
 @dataclass(frozen=True)

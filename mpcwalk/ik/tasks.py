@@ -14,14 +14,14 @@ at ``q``, so that one forward pass serves all tasks. The IK then linearises each
 """
 
 import abc
-from typing import Optional, Sequence, Tuple, Union
+from collections.abc import Sequence
 
 import numpy as np
 import pinocchio as pin
 
-from ..arrays import as_float_array
-from ..exceptions import ConfigurationError
-from ..robots import FrameNotFound
+from mpcwalk._checks import as_float_array
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.robot.loading import FrameNotFound
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
@@ -33,7 +33,7 @@ def update_kinematics(model: pin.Model, data: pin.Data, q: np.ndarray) -> None:
     pin.updateFramePlacements(model, data)
 
 
-def _weights(value: Union[float, Sequence[float]], size: int, name: str) -> np.ndarray:
+def _weights(value: float | Sequence[float], size: int, name: str) -> np.ndarray:
     try:
         weights = np.broadcast_to(np.asarray(value, dtype=float), (size,)).copy()
     except (TypeError, ValueError):
@@ -84,7 +84,7 @@ class Task(abc.ABC):
 
     def compute_linearization(
         self, model: pin.Model, data: pin.Data, q: np.ndarray, feedforward: bool = True
-    ) -> Tuple[np.ndarray, np.ndarray, Optional[np.ndarray]]:
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
         """Error, Jacobian and (if ``feedforward``) feed-forward in one call (what the IK
         uses; tasks override it to share intermediate results)."""
         return (
@@ -101,14 +101,14 @@ class ComTask(Task):
         weight: Weight [cost/m], a float or one per axis.
     """
 
-    def __init__(self, weight: Union[float, Sequence[float]] = 1.0) -> None:
+    def __init__(self, weight: float | Sequence[float] = 1.0) -> None:
         self.name = "com"
         self.dimension = 3
         self.weights = _weights(weight, 3, "ComTask weight")
         self.target = np.zeros(3)
         self.target_velocity = np.zeros(3)
 
-    def set_target(self, com: np.ndarray, velocity: Optional[np.ndarray] = None) -> None:
+    def set_target(self, com: np.ndarray, velocity: np.ndarray | None = None) -> None:
         """Target CoM position [m] and, optionally, its velocity [m/s], world frame."""
         self.target = finite_vector(com, 3, "CoM target")
         self.target_velocity = (
@@ -157,8 +157,8 @@ class FrameTask(Task):
         model: pin.Model,
         frame: str,
         *,
-        position_weight: Optional[Union[float, Sequence[float]]] = 1.0,
-        orientation_weight: Union[float, Sequence[float]] = 1.0,
+        position_weight: float | Sequence[float] | None = 1.0,
+        orientation_weight: float | Sequence[float] = 1.0,
         name: str = "",
     ) -> None:
         if not isinstance(frame, str) or not model.existFrame(frame):
@@ -178,8 +178,7 @@ class FrameTask(Task):
         self._target_rotation_t = np.eye(3)
         self.target_velocity = np.zeros(6)
 
-    def set_target(self, pose: Union[pin.SE3, np.ndarray],
-                   velocity: Optional[np.ndarray] = None) -> None:
+    def set_target(self, pose: pin.SE3 | np.ndarray, velocity: np.ndarray | None = None) -> None:
         """Target pose in the world and, optionally, its velocity (linear [m/s], angular
         [rad/s], world axes, shape (6,)). Orientation-only tasks ignore the position."""
         if not isinstance(pose, pin.SE3):
@@ -254,8 +253,8 @@ class PostureTask(Task):
     def __init__(
         self,
         model: pin.Model,
-        weight: Union[float, Sequence[float]] = 1e-2,
-        reference: Optional[np.ndarray] = None,
+        weight: float | Sequence[float] = 1e-2,
+        reference: np.ndarray | None = None,
     ) -> None:
         self.name = "posture"
         self.root_nv = int(model.joints[1].nv) if model.njoints > 1 else 0
@@ -271,8 +270,8 @@ class PostureTask(Task):
 
     def compute_error(self, model, data, q) -> np.ndarray:
         """Joint displacement from the reference [rad]."""
-        return pin.difference(model, self.reference, q)[self.root_nv:]
+        return pin.difference(model, self.reference, q)[self.root_nv :]
 
     def compute_jacobian(self, model, data, q) -> np.ndarray:
         """``[0 I]``, shape (nv - 6, nv)."""
-        return np.eye(model.nv)[self.root_nv:]
+        return np.eye(model.nv)[self.root_nv :]

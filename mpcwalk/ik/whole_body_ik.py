@@ -18,17 +18,16 @@ used and the result says so.
 
 import time
 from dataclasses import dataclass
-from typing import Optional, Tuple, Union
 
 import numpy as np
 import pinocchio as pin
 from scipy.linalg import lapack
 
-from ..arrays import as_float
-from ..exceptions import ConfigurationError, SolverNotFound
-from .joint_bounds import JointBounds, solve_box_qp
-from .targets import IKResult, IKTargets, TaskErrors
-from .tasks import ComTask, FrameTask, PostureTask, update_kinematics
+from mpcwalk._checks import as_float
+from mpcwalk.exceptions import ConfigurationError, SolverNotFound
+from mpcwalk.ik.joint_bounds import JointBounds, solve_box_qp
+from mpcwalk.ik.targets import IKResult, IKTargets, TaskErrors
+from mpcwalk.ik.tasks import ComTask, FrameTask, PostureTask, update_kinematics
 
 
 @dataclass(frozen=True)
@@ -52,7 +51,7 @@ class IKWeights:
 
 
 class WholeBodyIK:
-    """Differential IK of a floating-base humanoid (:class:`~mpcwalk.robots.Robot`).
+    """Differential IK of a floating-base humanoid (:class:`~mpcwalk.robot.loading.Robot`).
 
     Args:
         robot: The robot (its Pinocchio model; its ``q0`` is the posture reference).
@@ -88,13 +87,13 @@ class WholeBodyIK:
         weights: IKWeights = IKWeights(),
         solver: str = "daqp",
         qp_only_when_needed: bool = True,
-        velocity_limit: Optional[Union[float, np.ndarray]] = None,
+        velocity_limit: float | np.ndarray | None = None,
         limit_gain: float = 0.5,
         gain: float = 1.0,
         damping: float = 1e-6,
         lm_damping: float = 1.0,
-        torso_frame: Optional[str] = None,
-        posture_reference: Optional[np.ndarray] = None,
+        torso_frame: str | None = None,
+        posture_reference: np.ndarray | None = None,
     ) -> None:
         if solver == "daqp":  # called directly: importing qpsolvers (and its back-ends) is slow
             try:
@@ -120,12 +119,27 @@ class WholeBodyIK:
         self.damping, self.lm_damping = float(damping), float(lm_damping)
         left, right = robot.foot_frames
         self.com_task = ComTask(weights.com)
-        self.left_task = FrameTask(model, left, position_weight=weights.sole_position,
-                                   orientation_weight=weights.sole_orientation, name="left_sole")
-        self.right_task = FrameTask(model, right, position_weight=weights.sole_position,
-                                    orientation_weight=weights.sole_orientation, name="right_sole")
-        self.torso_task = FrameTask(model, torso_frame or robot.torso_frame, position_weight=None,
-                                    orientation_weight=weights.torso_orientation, name="torso")
+        self.left_task = FrameTask(
+            model,
+            left,
+            position_weight=weights.sole_position,
+            orientation_weight=weights.sole_orientation,
+            name="left_sole",
+        )
+        self.right_task = FrameTask(
+            model,
+            right,
+            position_weight=weights.sole_position,
+            orientation_weight=weights.sole_orientation,
+            name="right_sole",
+        )
+        self.torso_task = FrameTask(
+            model,
+            torso_frame or robot.torso_frame,
+            position_weight=None,
+            orientation_weight=weights.torso_orientation,
+            name="torso",
+        )
         reference = robot.q0 if posture_reference is None else posture_reference
         self.posture_task = PostureTask(model, weights.posture, reference)
         self.tasks = (self.com_task, self.left_task, self.right_task, self.torso_task)
@@ -140,14 +154,14 @@ class WholeBodyIK:
         nv_root = self.bounds.root_nv
         self._joint_slice = slice(nv_root, model.nv)
         self._posture_hessian = np.zeros(model.nv)
-        self._posture_hessian[nv_root:] = self.posture_task.weights ** 2
+        self._posture_hessian[nv_root:] = self.posture_task.weights**2
 
     @property
     def velocity_limit(self) -> np.ndarray:
         """Joint velocity limits [rad/s], shape (nb_joints,)."""
         return self.bounds.velocity_limit
 
-    def _check(self, q: np.ndarray, targets: IKTargets, dt: float) -> Tuple[np.ndarray, float]:
+    def _check(self, q: np.ndarray, targets: IKTargets, dt: float) -> tuple[np.ndarray, float]:
         if not isinstance(targets, IKTargets):
             raise ConfigurationError(
                 f"targets must be an IKTargets, got {type(targets).__name__}; build one with "
@@ -189,7 +203,8 @@ class WholeBodyIK:
         A, r, e = self._A, self._r, self._e
         for task, block in zip(self.tasks, self._blocks):
             e[block], A[block], feedforward_rate = task.compute_linearization(
-                model, data, q, feedforward)
+                model, data, q, feedforward
+            )
             if feedforward:
                 r[block] = dt * feedforward_rate
         if feedforward:
@@ -209,13 +224,14 @@ class WholeBodyIK:
         lower, upper = self.bounds.compute(q, dt, limit_gain, velocity_bounds)
         return H, c, lower, upper, posture_error
 
-    def _solve_qp(self, H, c, lower, upper) -> Optional[np.ndarray]:
+    def _solve_qp(self, H, c, lower, upper) -> np.ndarray | None:
         return solve_box_qp(H, c, lower, upper, self.bounds.root_nv, self.solver)
 
     def _step(self, q, dt, feedforward, limit_gain, velocity_bounds, force_qp=False):
         """One step: returns (dq or None, status, used_qp, posture_error)."""
         H, c, lower, upper, posture_error = self._build(
-            q, dt, feedforward, limit_gain, velocity_bounds)
+            q, dt, feedforward, limit_gain, velocity_bounds
+        )
         _, x, info = lapack.dposv(H, -c)
         finite = info == 0 and np.isfinite(x).all()
         joints = self._joint_slice
@@ -250,15 +266,28 @@ class WholeBodyIK:
         q, dt = self._check(q, targets, dt)
         self._set_targets(targets)
         x, status, used_qp, posture_error = self._step(
-            q, dt, targets.has_velocities, self.limit_gain, True,
-            force_qp=not self.qp_only_when_needed)
+            q,
+            dt,
+            targets.has_velocities,
+            self.limit_gain,
+            True,
+            force_qp=not self.qp_only_when_needed,
+        )
         errors = self._errors(posture_error)
         if x is None:
             q_next, v = q.copy(), np.zeros(self.model.nv)
         else:
             q_next, v = pin.integrate(self.model, q, x), x / dt
-        return IKResult(q_next, v, errors, time.perf_counter() - start,
-                        status in ("unconstrained", "qp"), status, 1, int(used_qp))
+        return IKResult(
+            q_next,
+            v,
+            errors,
+            time.perf_counter() - start,
+            status in ("unconstrained", "qp"),
+            status,
+            1,
+            int(used_qp),
+        )
 
     def solve_pose(
         self,
@@ -315,9 +344,15 @@ class WholeBodyIK:
         errors = self.errors(q_current, targets)
         converged = max(errors.position_max, errors.orientation_max) < tolerance
         return IKResult(
-            q_current, pin.difference(self.model, q_start, q_current), errors,
-            time.perf_counter() - start, converged,
-            "converged" if converged else "max_iterations", iterations, qp_solves)
+            q_current,
+            pin.difference(self.model, q_start, q_current),
+            errors,
+            time.perf_counter() - start,
+            converged,
+            "converged" if converged else "max_iterations",
+            iterations,
+            qp_solves,
+        )
 
     def errors(self, q: np.ndarray, targets: IKTargets) -> TaskErrors:
         """Task errors of configuration ``q`` with respect to ``targets``."""

@@ -14,15 +14,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..exceptions import ConfigurationError
-from .lipm import LIPM
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.models.lipm import LIPM
 
 
 def _check_period(sampling_period: float) -> None:
     if not np.isfinite(sampling_period) or sampling_period <= 0.0:
         raise ConfigurationError(
-            f"sampling_period must be a positive duration in seconds, got "
-            f"{sampling_period!r}."
+            f"sampling_period must be a positive duration in seconds, got {sampling_period!r}."
         )
 
 
@@ -115,9 +114,12 @@ class CartTable:
             for j in range(i + 1):
                 Xu[i, :, j] = cols[i - j]
         out = {
-            "Pps": Xs[:, 0, :], "Ppu": Xu[:, 0, :],
-            "Pvs": Xs[:, 1, :], "Pvu": Xu[:, 1, :],
-            "Pas": Xs[:, 2, :], "Pau": Xu[:, 2, :],
+            "Pps": Xs[:, 0, :],
+            "Ppu": Xu[:, 0, :],
+            "Pvs": Xs[:, 1, :],
+            "Pvu": Xu[:, 1, :],
+            "Pas": Xs[:, 2, :],
+            "Pau": Xu[:, 2, :],
         }
         out["Pzs"] = np.einsum("k,nkj->nj", self.C, Xs)
         out["Pzu"] = np.einsum("k,nkj->nj", self.C, Xu)

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..exceptions import ConfigurationError
+from mpcwalk.exceptions import ConfigurationError
 
 GRAVITY = 9.81  # [m] / [s]^2
 
@@ -36,9 +36,7 @@ class LIPM:
                 f"{self.com_height!r}; pass the CoM height of the walking posture."
             )
         if not np.isfinite(self.gravity) or self.gravity <= 0.0:
-            raise ConfigurationError(
-                f"LIPM gravity must be positive, got {self.gravity!r}."
-            )
+            raise ConfigurationError(f"LIPM gravity must be positive, got {self.gravity!r}.")
 
     @property
     def omega(self) -> float:

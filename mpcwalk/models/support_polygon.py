@@ -1,11 +1,11 @@
 """Convex support polygons as half-plane inequalities ``A p <= b``."""
 
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Iterable, Sequence
 
 import numpy as np
 
-from ..exceptions import ConfigurationError
+from mpcwalk.exceptions import ConfigurationError
 
 
 def convex_hull(points: np.ndarray) -> np.ndarray:
@@ -73,9 +73,7 @@ class SupportPolygon:
     @staticmethod
     def union_hull(polygons: Iterable["SupportPolygon"]) -> "SupportPolygon":
         """Convex hull of several polygons (double support: both feet)."""
-        return SupportPolygon.from_vertices(
-            np.vstack([poly.vertices for poly in polygons])
-        )
+        return SupportPolygon.from_vertices(np.vstack([poly.vertices for poly in polygons]))
 
     @property
     def centroid(self) -> np.ndarray:

@@ -7,7 +7,7 @@ numpy) and permuted into compressed-column order. Entries whose value happens
 to be zero stay in the pattern as explicit zeros.
 """
 
-from typing import Sequence, Tuple
+from collections.abc import Sequence
 
 import numpy as np
 import scipy.sparse as sp
@@ -23,7 +23,7 @@ class FixedPattern:
         shape: ``(nb_rows, nb_cols)``.
     """
 
-    def __init__(self, rows: np.ndarray, cols: np.ndarray, shape: Tuple[int, int]) -> None:
+    def __init__(self, rows: np.ndarray, cols: np.ndarray, shape: tuple[int, int]) -> None:
         rows = np.asarray(rows, dtype=np.int64).ravel()
         cols = np.asarray(cols, dtype=np.int64).ravel()
         self.shape = (int(shape[0]), int(shape[1]))
@@ -116,8 +116,8 @@ class SubPattern:
 
 
 def stack_patterns(
-    blocks: Sequence[Tuple[np.ndarray, np.ndarray]],
-) -> Tuple[np.ndarray, np.ndarray]:
+    blocks: Sequence[tuple[np.ndarray, np.ndarray]],
+) -> tuple[np.ndarray, np.ndarray]:
     """Concatenate coordinate lists ``[(rows, cols), ...]``."""
     if not blocks:
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)

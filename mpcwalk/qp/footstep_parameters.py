@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..exceptions import ConfigurationError
+from mpcwalk.exceptions import ConfigurationError
 
 
 @dataclass(frozen=True)
@@ -57,8 +57,11 @@ class FootstepMpcParameters:
                     f"FootstepMpcParameters.{name} must be a "
                     f"{'positive' if strict else 'non-negative'} number, got {value!r}."
                 )
-        if isinstance(self.constraint_points, bool) or int(self.constraint_points) != \
-                self.constraint_points or self.constraint_points < 1:
+        if (
+            isinstance(self.constraint_points, bool)
+            or int(self.constraint_points) != self.constraint_points
+            or self.constraint_points < 1
+        ):
             raise ConfigurationError(
                 "FootstepMpcParameters.constraint_points must be an integer >= 1 (points per "
                 f"sampling interval), got {self.constraint_points!r}."
@@ -108,7 +111,14 @@ def blended_rectangles(yaw_a: np.ndarray, yaw_b: np.ndarray, lam: np.ndarray, fo
     w = (1.0 - lam) * np.exp(1j * np.asarray(yaw_a)) + lam * np.exp(1j * np.asarray(yaw_b))
     scale, yaw = np.abs(w), np.angle(w)
     c, s = np.cos(yaw), np.sin(yaw)
-    normals = np.stack([np.stack([c, s], -1), np.stack([-c, -s], -1),
-                        np.stack([-s, c], -1), np.stack([s, -c], -1)], axis=-2)
+    normals = np.stack(
+        [
+            np.stack([c, s], -1),
+            np.stack([-c, -s], -1),
+            np.stack([-s, c], -1),
+            np.stack([s, -c], -1),
+        ],
+        axis=-2,
+    )
     half = scale[..., None] * (0.5 * np.array([foot.length, foot.length, foot.width, foot.width]))
     return normals, half

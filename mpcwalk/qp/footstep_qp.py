@@ -21,15 +21,14 @@ prediction products: the footstep columns change with the samples anyway.
 """
 
 from dataclasses import dataclass
-from typing import Optional
 
 import numpy as np
 import qpsolvers
 
-from ..exceptions import ConfigurationError, NotReset
-from ..models.cart_table import CartTable
-from ..models.lipm import LIPM
-from .footstep_parameters import FootstepMpcParameters
+from mpcwalk.exceptions import ConfigurationError, NotReset
+from mpcwalk.models.cart_table import CartTable
+from mpcwalk.models.lipm import LIPM
+from mpcwalk.qp.footstep_parameters import FootstepMpcParameters
 
 
 @dataclass(frozen=True)
@@ -87,7 +86,7 @@ class StepVariables:
 class FootstepQP:
     """Dense QP of the footstep-adaptive MPC, rebuilt cheaply every tick.
 
-    The qpsolvers back-ends of :mod:`mpcwalk.qp.solvers` solve it through :meth:`problem`
+    The qpsolvers back-ends of :mod:`mpcwalk.qp.solvers.registry` solve it through :meth:`problem`
     (``formulation`` is ``"dense"``, there are no equality rows).
 
     Args:
@@ -102,7 +101,8 @@ class FootstepQP:
     def __init__(self, lipm: LIPM, parameters: FootstepMpcParameters, nb_footsteps: int) -> None:
         if int(nb_footsteps) != nb_footsteps or nb_footsteps < 1:
             raise ConfigurationError(
-                f"nb_footsteps must be a positive integer, got {nb_footsteps!r}.")
+                f"nb_footsteps must be a positive integer, got {nb_footsteps!r}."
+            )
         p = self.parameters = parameters
         self.N, self.nf = N, nf = parameters.horizon, int(nb_footsteps)
         self.n = 2 * (N + nf)
@@ -112,10 +112,11 @@ class FootstepQP:
         self._predictions: dict = {}
         self._pred = self._prediction(p.sampling_period)
         # Columns of each axis: its jerks, then its footsteps.
-        self._columns = [np.concatenate([a * N + np.arange(N), 2 * N + a * nf + np.arange(nf)])
-                         for a in range(2)]
+        self._columns = [
+            np.concatenate([a * N + np.arange(N), 2 * N + a * nf + np.arange(nf)]) for a in range(2)
+        ]
         self.P = self.q = self.G = self.h = None
-        self.x0: Optional[np.ndarray] = None
+        self.x0: np.ndarray | None = None
         self.sample_times = self.sample_times_at(0.0)
         self._initial_footsteps = np.zeros((nf, 2))
 
@@ -156,8 +157,14 @@ class FootstepQP:
             Xu[i] = A @ Xu[i - 1]
             Xu[i, :, i] = B
         C = self.model.C
-        pred = {"Pps": Xs[:, 0], "Ppu": Xu[:, 0], "Pvs": Xs[:, 1], "Pvu": Xu[:, 1],
-                "Pzs": np.einsum("k,nkj->nj", C, Xs), "Pzu": np.einsum("k,nkj->nj", C, Xu)}
+        pred = {
+            "Pps": Xs[:, 0],
+            "Ppu": Xu[:, 0],
+            "Pvs": Xs[:, 1],
+            "Pvu": Xu[:, 1],
+            "Pzs": np.einsum("k,nkj->nj", C, Xs),
+            "Pzu": np.einsum("k,nkj->nj", C, Xu),
+        }
         # ZMP at the constraint points: from the state at the start of each interval.
         P = p.constraint_points
         Cs, Cu = np.zeros((N, P, 3)), np.zeros((N, P, N))
@@ -171,14 +178,23 @@ class FootstepQP:
                 Cu[i, j] = C @ Aj @ start_u
                 Cu[i, j, i] += C @ Bj
         pred["Czs"], pred["Czu"] = Cs.reshape(N * P, 3), Cu.reshape(N * P, N)
-        H = (p.zmp_weight * pred["Pzu"].T @ pred["Pzu"] + p.velocity_weight * pred["Pvu"].T
-             @ pred["Pvu"] + p.jerk_weight * np.eye(N))
+        H = (
+            p.zmp_weight * pred["Pzu"].T @ pred["Pzu"]
+            + p.velocity_weight * pred["Pvu"].T @ pred["Pvu"]
+            + p.jerk_weight * np.eye(N)
+        )
         pred["H_jerk"] = 0.5 * (H + H.T)
         self._predictions[key] = pred
         return pred
 
-    def update(self, x0: np.ndarray, t: float, velocity_reference: np.ndarray,
-               supports: SampleSupports, steps: StepVariables) -> None:
+    def update(
+        self,
+        x0: np.ndarray,
+        t: float,
+        velocity_reference: np.ndarray,
+        supports: SampleSupports,
+        steps: StepVariables,
+    ) -> None:
         """Assemble the QP of the tick at time ``t`` [s] from the CoM state ``x0`` (3, 2)
         (rows position [m], velocity [m/s], acceleration [m/s^2]), the reference velocity
         (N, 2) [m/s], the supports of the samples and the footstep variables."""
@@ -192,8 +208,8 @@ class FootstepQP:
         times = self.sample_times_at(t)
         self._pred = pred = self._prediction(times[0] - t)
         last = p.constraint_points - 1
-        S, M = supports.weights[last::p.constraint_points], steps.reference_matrix
-        centres = supports.centres[last::p.constraint_points]
+        S, M = supports.weights[last :: p.constraint_points], steps.reference_matrix
+        centres = supports.centres[last :: p.constraint_points]
         wz, wf = p.zmp_weight, p.footstep_weight
         H = np.empty((N + nf, N + nf))
         H[:N, :N] = pred["H_jerk"]
@@ -207,8 +223,9 @@ class FootstepQP:
             P[np.ix_(cols, cols)] = scale * H
             z_res = zmp_free[:, a] - centres[:, a]
             v_res = vel_free[:, a] - velocity_reference[:, a]
-            q[cols[:N]] = scale * (wz * pred["Pzu"].T @ z_res
-                                   + p.velocity_weight * pred["Pvu"].T @ v_res)
+            q[cols[:N]] = scale * (
+                wz * pred["Pzu"].T @ z_res + p.velocity_weight * pred["Pvu"].T @ v_res
+            )
             q[cols[N:]] = scale * (-wz * S.T @ z_res - wf * M.T @ steps.reference[:, a])
         self.P, self.q = P, q
         self.G, self.h = self._constraints(x0, supports, steps)
@@ -224,10 +241,13 @@ class FootstepQP:
         Pzu, S = self._pred["Czu"][point], supports.weights[point]
         zmp_free = self._pred["Czs"][point] @ x0
         for a in range(2):
-            G_zmp[:, a * N:(a + 1) * N] = normals[:, a:a + 1] * Pzu
-            G_zmp[:, 2 * N + a * nf:2 * N + (a + 1) * nf] = -normals[:, a:a + 1] * S
-        h_zmp = (supports.offsets[point, row] - self.parameters.zmp_margin
-                 - np.einsum("ra,ra->r", normals, zmp_free))
+            G_zmp[:, a * N : (a + 1) * N] = normals[:, a : a + 1] * Pzu
+            G_zmp[:, 2 * N + a * nf : 2 * N + (a + 1) * nf] = -normals[:, a : a + 1] * S
+        h_zmp = (
+            supports.offsets[point, row]
+            - self.parameters.zmp_margin
+            - np.einsum("ra,ra->r", normals, zmp_free)
+        )
         active = np.flatnonzero(steps.active)
         G_reach = np.zeros((4 * len(active), self.n))
         h_reach = np.empty(4 * len(active))
@@ -268,7 +288,7 @@ class FootstepQP:
 
     def footsteps(self, x: np.ndarray) -> np.ndarray:
         """Footstep positions of a solution, shape (nf, 2), in [m]."""
-        return np.asarray(x)[2 * self.N:].reshape(2, self.nf).T
+        return np.asarray(x)[2 * self.N :].reshape(2, self.nf).T
 
     def predict(self, jerks: np.ndarray):
         """CoM positions and ZMPs at the samples of the last :meth:`update`, each (N, 2),

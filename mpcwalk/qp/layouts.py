@@ -20,18 +20,17 @@ minimiser and keeps absolute solver tolerances meaningful.
 """
 
 from dataclasses import dataclass
-from typing import List, Optional, Tuple
 
 import numpy as np
 
-from ..gait.contact_schedule import MAX_POLYGON_EDGES
-from ..models.cart_table import CartTable
-from .fixed_pattern import FixedPattern, stack_patterns
-from .parameters import MpcParameters
+from mpcwalk.gait.contact_schedule import MAX_POLYGON_EDGES
+from mpcwalk.models.cart_table import CartTable
+from mpcwalk.qp.fixed_pattern import FixedPattern, stack_patterns
+from mpcwalk.qp.parameters import MpcParameters
 
 E = MAX_POLYGON_EDGES
 #: (start, shape, sample axis) of a block of a primal or dual vector.
-Block = Tuple[int, Tuple[int, ...], Optional[int]]
+Block = tuple[int, tuple[int, ...], int | None]
 
 
 @dataclass(frozen=True)
@@ -72,8 +71,9 @@ class _Layout:
             the state at ``t + control_period``, in [s].
     """
 
-    def __init__(self, model: CartTable, parameters: MpcParameters,
-                 control_period: Optional[float] = None) -> None:
+    def __init__(
+        self, model: CartTable, parameters: MpcParameters, control_period: float | None = None
+    ) -> None:
         self.parameters = p = parameters
         self.N = N = parameters.horizon
         self.omega = model.lipm.omega
@@ -90,10 +90,12 @@ class _Layout:
         if tick:
             A_dt, B_dt = CartTable.transition(control_period)
             # (row acting on x0, coefficient of the first jerk) per tick row.
-            self._tick = {"zmp_tick": (self.C @ A_dt, self.C @ B_dt),
-                          "com_tick": (A_dt[0], B_dt[0])}
+            self._tick = {
+                "zmp_tick": (self.C @ A_dt, self.C @ B_dt),
+                "com_tick": (A_dt[0], B_dt[0]),
+            }
         # (kind, number of polygons): E rows per polygon.
-        self.groups: List[Tuple[str, int]] = []
+        self.groups: list[tuple[str, int]] = []
         if p.constrained:
             self.groups.append(("zmp", N))
         if p.constrain_com:
@@ -122,7 +124,7 @@ class _Layout:
         values = self.P_values(nominal)
         on_diagonal = self.P_pattern.rows == self.P_pattern.cols
         self.cost_scale = 1.0 / np.max(np.abs(values[on_diagonal]))
-        self.dual_blocks: List[Block] = list(self._eq_dual_blocks)
+        self.dual_blocks: list[Block] = list(self._eq_dual_blocks)
         row = m_eq
         for kind, nb in self.groups:
             per_sample = kind in ("zmp", "com")
@@ -175,7 +177,7 @@ class _Layout:
         return (1.0 - w) * vector[i0] + w * vector[i1]
 
 
-def _shift_gather(blocks: List[Block], size: int, samples: float, N: int):
+def _shift_gather(blocks: list[Block], size: int, samples: float, N: int):
     """Index arrays ``(i0, i1, w)`` with ``shifted = (1 - w) v[i0] + w v[i1]``."""
     i0, i1, w = np.arange(size), np.arange(size), np.zeros(size)
     pos = np.arange(N) + samples
@@ -199,8 +201,9 @@ class CondensedLayout(_Layout):
 
     formulation = "dense"
 
-    def __init__(self, model: CartTable, parameters: MpcParameters,
-                 control_period: Optional[float] = None) -> None:
+    def __init__(
+        self, model: CartTable, parameters: MpcParameters, control_period: float | None = None
+    ) -> None:
         super().__init__(model, parameters, control_period)
         N = self.N
         ii, jj = np.meshgrid(np.arange(N), np.arange(N), indexing="ij")
@@ -208,9 +211,9 @@ class CondensedLayout(_Layout):
         P_coords = ((axis * N + ii).ravel(), (axis * N + jj).ravel())
         self._ti, self._tj = np.tril_indices(N)
         self._eq_values = np.zeros(0)
-        self._eq_dual_blocks: List[Block] = []
+        self._eq_dual_blocks: list[Block] = []
         self._finish(2 * N, 0, P_coords, [])
-        self.primal_blocks: List[Block] = [(0, (2, N), 1)]
+        self.primal_blocks: list[Block] = [(0, (2, N), 1)]
 
     def _entries(self, kind: str):
         N, E_ = self.N, np.arange(E).reshape(1, E, 1, 1)
@@ -254,7 +257,7 @@ class CondensedLayout(_Layout):
             g += self.Ppu.T @ (com_weights[:, None] * (self.Pps @ x0 - com_ref))
         return s * g.T.ravel()
 
-    def bounds(self, x0, seq: SupportSequence) -> Tuple[np.ndarray, np.ndarray]:
+    def bounds(self, x0, seq: SupportSequence) -> tuple[np.ndarray, np.ndarray]:
         return np.full(self.m, -np.inf), self.upper_bounds(x0, seq)
 
 
@@ -265,8 +268,9 @@ class SparseLayout(_Layout):
 
     formulation = "sparse"
 
-    def __init__(self, model: CartTable, parameters: MpcParameters,
-                 control_period: Optional[float] = None) -> None:
+    def __init__(
+        self, model: CartTable, parameters: MpcParameters, control_period: float | None = None
+    ) -> None:
         super().__init__(model, parameters, control_period)
         N = self.N
         a = np.arange(2).reshape(2, 1, 1)
@@ -279,10 +283,14 @@ class SparseLayout(_Layout):
         ra = a[..., None] * 3 * N + 3 * i[:, 1:, :, None] + Ak.reshape(1, 1, -1, 1)
         transition = (ra, X(a[..., None], i[:, :-1, :, None], Am.reshape(1, 1, -1, 1)))
         inp = (eq_row, np.broadcast_to(a * N + i, eq_row.shape))
-        self._eq_values = np.concatenate([
-            np.ones(6 * N), np.tile(-model.A[Ak, Am], 2 * (N - 1)), np.tile(-model.B, 2 * N),
-        ])
-        self._eq_dual_blocks: List[Block] = [(0, (2, N, 3), 1)]
+        self._eq_values = np.concatenate(
+            [
+                np.ones(6 * N),
+                np.tile(-model.A[Ak, Am], 2 * (N - 1)),
+                np.tile(-model.B, 2 * N),
+            ]
+        )
+        self._eq_dual_blocks: list[Block] = [(0, (2, N, 3), 1)]
         # Cost: jerk diagonal, then a full 3x3 block per (axis, sample).
         u_idx = np.arange(2 * N)
         km = np.arange(3)
@@ -290,7 +298,7 @@ class SparseLayout(_Layout):
         P_cols = X(a[..., None], i[..., None], km.reshape(1, 1, 1, 3))
         P_coords = stack_patterns([(u_idx, u_idx), (P_rows + 0 * P_cols, P_cols + 0 * P_rows)])
         self._finish(8 * N, 6 * N, P_coords, [ident, transition, inp])
-        self.primal_blocks: List[Block] = [(0, (2, N), 1), (2 * N, (2, N, 3), 1)]
+        self.primal_blocks: list[Block] = [(0, (2, N), 1), (2 * N, (2, N, 3), 1)]
 
     def _X(self, a, i, k):
         """Column of state component ``k`` of axis ``a`` at sample ``i + 1``."""
@@ -333,10 +341,9 @@ class SparseLayout(_Layout):
         gx[:, :, 0] -= com_weights[None, :] * com_ref.T
         return s * np.concatenate([np.zeros(2 * N), gx.ravel()])
 
-    def bounds(self, x0, seq: SupportSequence) -> Tuple[np.ndarray, np.ndarray]:
+    def bounds(self, x0, seq: SupportSequence) -> tuple[np.ndarray, np.ndarray]:
         eq = np.zeros((2, self.N, 3))
         eq[:, 0, :] = (self.model.A @ x0).T
         eq = eq.ravel()
         u_ineq = self.upper_bounds(x0, seq)
-        return (np.concatenate([eq, np.full(self.m_ineq, -np.inf)]),
-                np.concatenate([eq, u_ineq]))
+        return (np.concatenate([eq, np.full(self.m_ineq, -np.inf)]), np.concatenate([eq, u_ineq]))

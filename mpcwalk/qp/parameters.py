@@ -2,11 +2,10 @@
 
 import dataclasses
 from dataclasses import dataclass
-from typing import Optional
 
 import numpy as np
 
-from ..exceptions import ConfigurationError
+from mpcwalk.exceptions import ConfigurationError
 
 
 @dataclass(frozen=True)
@@ -52,7 +51,7 @@ class MpcParameters:
     com_weight_single_support_only: bool = False
     constrained: bool = True
     zmp_margin: float = 0.0  # [m]
-    com_margin: Optional[float] = None  # [m], None: CoM not constrained
+    com_margin: float | None = None  # [m], None: CoM not constrained
     terminal_dcm: bool = False
 
     def __post_init__(self) -> None:

@@ -1,7 +1,6 @@
 """Common result of every QP back-end, and KKT residuals in OSQP form."""
 
 from dataclasses import dataclass
-from typing import Optional, Tuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -27,22 +26,27 @@ class QPResult:
         solver: Back-end name as given to :func:`make_solver`.
     """
 
-    x: Optional[np.ndarray]
-    y: Optional[np.ndarray]
+    x: np.ndarray | None
+    y: np.ndarray | None
     success: bool
     status: str
     solve_time: float
-    iterations: Optional[int]
+    iterations: int | None
     primal_residual: float
-    dual_residual: Optional[float]
-    duality_gap: Optional[float]
+    dual_residual: float | None
+    duality_gap: float | None
     solver: str
 
 
 def kkt_residuals(
-    P: sp.spmatrix, q: np.ndarray, A: sp.spmatrix, l: np.ndarray, u: np.ndarray,
-    x: np.ndarray, y: Optional[np.ndarray],
-) -> Tuple[float, Optional[float], Optional[float]]:
+    P: sp.spmatrix,
+    q: np.ndarray,
+    A: sp.spmatrix,
+    l: np.ndarray,
+    u: np.ndarray,
+    x: np.ndarray,
+    y: np.ndarray | None,
+) -> tuple[float, float | None, float | None]:
     """Primal residual, dual residual and duality gap of ``(x, y)`` for
     ``min 1/2 x'Px + q'x  s.t.  l <= Ax <= u`` (OSQP sign convention).
 

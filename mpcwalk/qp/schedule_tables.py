@@ -4,7 +4,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..gait.contact_schedule import MAX_POLYGON_EDGES, ContactSchedule
+from mpcwalk.gait.contact_schedule import MAX_POLYGON_EDGES, ContactSchedule
 
 
 @dataclass(frozen=True)
@@ -54,8 +54,16 @@ class ScheduleTables:
         next_single = np.full(len(phases) + 1, len(phases))
         for i in range(len(phases) - 1, -1, -1):
             next_single[i] = i if single[i] else next_single[i + 1]
-        return ScheduleTables(polygon_id, A, b, single, centers, knots,
-                              schedule.zmp_reference(knots), next_single[:-1])
+        return ScheduleTables(
+            polygon_id,
+            A,
+            b,
+            single,
+            centers,
+            knots,
+            schedule.zmp_reference(knots),
+            next_single[:-1],
+        )
 
     def com_phases(self, start: np.ndarray, end: np.ndarray) -> np.ndarray:
         """Phase whose polygon bounds the CoM at each sample.
@@ -78,5 +86,10 @@ class ScheduleTables:
     def zmp_reference(self, times: np.ndarray) -> np.ndarray:
         """Same values as ``ContactSchedule.zmp_reference``, by interpolation;
         shape (n, 2), in [m]."""
-        return np.stack([np.interp(times, self.knots, self.zmp_knots[:, 0]),
-                         np.interp(times, self.knots, self.zmp_knots[:, 1])], axis=1)
+        return np.stack(
+            [
+                np.interp(times, self.knots, self.zmp_knots[:, 0]),
+                np.interp(times, self.knots, self.zmp_knots[:, 1]),
+            ],
+            axis=1,
+        )

@@ -10,19 +10,18 @@ rewrites only what changes from one control tick to the next.
 """
 
 from dataclasses import dataclass
-from typing import Optional
 
 import numpy as np
 import qpsolvers
 import scipy.sparse as sp
 
-from ..exceptions import ConfigurationError, NotReset
-from ..gait.contact_schedule import ContactSchedule
-from ..models.cart_table import CartTable
-from ..models.lipm import LIPM
-from .layouts import CondensedLayout, SparseLayout, SupportSequence
-from .parameters import MpcParameters
-from .schedule_tables import ScheduleTables
+from mpcwalk.exceptions import ConfigurationError, NotReset
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.models.cart_table import CartTable
+from mpcwalk.models.lipm import LIPM
+from mpcwalk.qp.layouts import CondensedLayout, SparseLayout, SupportSequence
+from mpcwalk.qp.parameters import MpcParameters
+from mpcwalk.qp.schedule_tables import ScheduleTables
 
 FORMULATIONS = ("dense", "sparse")
 #: Times within this of a phase boundary, up to round-off, belong to the new
@@ -81,19 +80,19 @@ class WalkingQP:
         lipm: LIPM = LIPM(),
         parameters: MpcParameters = MpcParameters(),
         formulation: str = "dense",
-        control_period: Optional[float] = None,
+        control_period: float | None = None,
     ) -> None:
         if formulation not in FORMULATIONS:
             raise ConfigurationError(
-                f"QP formulation must be one of {', '.join(FORMULATIONS)}, got "
-                f"{formulation!r}."
+                f"QP formulation must be one of {', '.join(FORMULATIONS)}, got {formulation!r}."
             )
         self.parameters = parameters
         self.formulation = formulation
         self.model = CartTable(lipm, parameters.sampling_period)
         layout_class = CondensedLayout if formulation == "dense" else SparseLayout
-        if control_period is not None and not (np.isfinite(control_period)
-                                               and control_period > 0.0):
+        if control_period is not None and not (
+            np.isfinite(control_period) and control_period > 0.0
+        ):
             raise ConfigurationError(
                 f"control_period must be a positive number of seconds or None, got "
                 f"{control_period!r}."
@@ -118,12 +117,12 @@ class WalkingQP:
         self.u = np.full(self.m, np.inf)
         self.P_version = 0
         self.A_version = 0
-        self.x0: Optional[np.ndarray] = None
+        self.x0: np.ndarray | None = None
         self.sample_times = self.sample_offsets.copy()
-        self._schedule: Optional[ContactSchedule] = None
-        self._tables: Optional[ScheduleTables] = None
+        self._schedule: ContactSchedule | None = None
+        self._tables: ScheduleTables | None = None
         self.time = 0.0
-        self._key: Optional[bytes] = None
+        self._key: bytes | None = None
         self._cache: dict = {}
 
     # ------------------------------------------------------------- update
@@ -133,9 +132,9 @@ class WalkingQP:
         t: float,
         schedule: ContactSchedule,
         *,
-        zmp_reference: Optional[np.ndarray] = None,
-        com_reference: Optional[np.ndarray] = None,
-        velocity_reference: Optional[np.ndarray] = None,
+        zmp_reference: np.ndarray | None = None,
+        com_reference: np.ndarray | None = None,
+        velocity_reference: np.ndarray | None = None,
     ) -> bool:
         """Set the initial state and time; rewrite what changed.
 
@@ -170,16 +169,20 @@ class WalkingQP:
         all_idx = schedule.phase_index(
             np.concatenate([[tick], times, times + p.sampling_period]) + _BOUNDARY_EPS
         )
-        idx = all_idx[1:self.N + 1]
-        com_idx = tables.com_phases(idx, all_idx[self.N + 1:])
-        key = tables.polygon_id[np.concatenate([all_idx[:self.N + 1], com_idx])].tobytes()
+        idx = all_idx[1 : self.N + 1]
+        com_idx = tables.com_phases(idx, all_idx[self.N + 1 :])
+        key = tables.polygon_id[np.concatenate([all_idx[: self.N + 1], com_idx])].tobytes()
         changed = False
         if key != self._key:
             self._key = key
             tick_idx = all_idx[0]
             self.supports = SupportSequence(
-                tables.A[idx], tables.b[idx], tables.A[com_idx], tables.b[com_idx],
-                tables.A[tick_idx], tables.b[tick_idx],
+                tables.A[idx],
+                tables.b[idx],
+                tables.A[com_idx],
+                tables.b[com_idx],
+                tables.A[tick_idx],
+                tables.b[tick_idx],
             )
             if layout.m_ineq:
                 self.A_data = layout.A_pattern.data(layout.A_values(self.supports))
@@ -206,7 +209,7 @@ class WalkingQP:
         self.x0, self.time, self.sample_times = x0.copy(), float(t), times
         return changed
 
-    def _reference(self, value, name: str) -> Optional[np.ndarray]:
+    def _reference(self, value, name: str) -> np.ndarray | None:
         if value is None:
             return None
         arr = np.asarray(value, dtype=float)
@@ -255,17 +258,32 @@ class WalkingQP:
         self._require_update()
         kind = "dense" if dense else "csc"
         pattern = self.layout.P_pattern
-        P = self._cached(f"P_{kind}", self.P_version, lambda: (
-            pattern.dense(self.P_data) if dense else pattern.matrix(self.P_data)))
+        P = self._cached(
+            f"P_{kind}",
+            self.P_version,
+            lambda: pattern.dense(self.P_data) if dense else pattern.matrix(self.P_data),
+        )
         G = h = A = b = None
         if self.layout.m_ineq:
-            G = self._cached(f"G_{kind}", self.A_version, lambda: (
-                self._G_rows.dense(self.A_data) if dense else self._G_rows.matrix(self.A_data)))
-            h = self.u[self.m_eq:]
+            G = self._cached(
+                f"G_{kind}",
+                self.A_version,
+                lambda: (
+                    self._G_rows.dense(self.A_data) if dense else self._G_rows.matrix(self.A_data)
+                ),
+            )
+            h = self.u[self.m_eq :]
         if self.m_eq:
-            A = self._cached(f"Aeq_{kind}", self.A_version, lambda: (
-                self._Aeq_rows.dense(self.A_data) if dense else self._Aeq_rows.matrix(self.A_data)))
-            b = self.l[:self.m_eq]
+            A = self._cached(
+                f"Aeq_{kind}",
+                self.A_version,
+                lambda: (
+                    self._Aeq_rows.dense(self.A_data)
+                    if dense
+                    else self._Aeq_rows.matrix(self.A_data)
+                ),
+            )
+            b = self.l[: self.m_eq]
         return qpsolvers.Problem(P, self.q, G, h, A, b)
 
     def _require_update(self) -> None:
@@ -277,7 +295,7 @@ class WalkingQP:
         """CoM jerks of a solution, shape (N, 2), in [m]/[s]^3."""
         return np.asarray(x)[: 2 * self.N].reshape(2, self.N).T
 
-    def predict(self, jerks: np.ndarray, x0: Optional[np.ndarray] = None) -> Prediction:
+    def predict(self, jerks: np.ndarray, x0: np.ndarray | None = None) -> Prediction:
         """Exact states at the samples for jerks (N, 2) from ``x0`` (default:
         the state of the last :meth:`update`)."""
         x0 = self.x0 if x0 is None else np.asarray(x0, dtype=float)

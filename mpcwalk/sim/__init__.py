@@ -1,14 +1,26 @@
 """MuJoCo simulation: position-controlled robot, sensors, measured CoP, pushes, falls, video."""
 
-from .contacts import ContactEstimator
-from .disturbances import BASE, TORSO, ExternalForce, PushFormatError, parse_push
-from .fall_detection import FallDetector, FallStatus
-from .measurements import FootContact, ImuReading, Measurements, SimState, quaternion_to_rpy
-from .rendering import RenderingUnavailable, VideoDependencyMissing, VideoRecorder, gl_backend
-from .simulation import SensorNoise, Simulation, SimulationUnstable
+from mpcwalk.sim.contacts import ContactEstimator
+from mpcwalk.sim.disturbances import BASE, TORSO, ExternalForce, PushFormatError, parse_push
+from mpcwalk.sim.fall_detection import FallDetector, FallStatus
+from mpcwalk.sim.measurements import (
+    FootContact,
+    ImuReading,
+    Measurements,
+    SimState,
+    quaternion_to_rpy,
+)
+from mpcwalk.sim.rendering import (
+    RenderingUnavailable,
+    VideoDependencyMissing,
+    VideoRecorder,
+    gl_backend,
+)
+from mpcwalk.sim.simulation import SensorNoise, Simulation, SimulationUnstable
 
 __all__ = [
     "BASE",
+    "TORSO",
     "ContactEstimator",
     "ExternalForce",
     "FallDetector",
@@ -22,7 +34,6 @@ __all__ = [
     "SimState",
     "Simulation",
     "SimulationUnstable",
-    "TORSO",
     "VideoDependencyMissing",
     "VideoRecorder",
     "gl_backend",

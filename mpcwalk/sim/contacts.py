@@ -1,18 +1,18 @@
 """Foot contact wrenches and the measured centre of pressure from MuJoCo contacts."""
 
-from typing import List, Sequence, Tuple
+from collections.abc import Sequence
 
 import mujoco
 import numpy as np
 
-from ..exceptions import ConfigurationError
-from ..arrays import frozen_array
-from .measurements import FootContact
+from mpcwalk._checks import frozen_array
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.sim.measurements import FootContact
 
 _NAN3 = frozen_array([np.nan, np.nan, np.nan])
 
 
-def _subtree_bodies(model: mujoco.MjModel, root: int) -> List[int]:
+def _subtree_bodies(model: mujoco.MjModel, root: int) -> list[int]:
     """Body ``root`` and all its descendants."""
     bodies = [root]
     for body in range(root + 1, model.nbody):
@@ -48,7 +48,7 @@ class ContactEstimator:
                 f"contact_threshold must be a force >= 0 N, got {contact_threshold!r}."
             )
         self.contact_threshold = float(contact_threshold)
-        self.site_ids: Tuple[int, ...] = tuple(
+        self.site_ids: tuple[int, ...] = tuple(
             mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, name) for name in sole_sites
         )
         colliding = (model.geom_contype != 0) | (model.geom_conaffinity != 0)
@@ -57,8 +57,9 @@ class ContactEstimator:
             if site < 0:
                 raise ConfigurationError(f"The MuJoCo model has no sole site '{name}'.")
             bodies = _subtree_bodies(model, int(model.site_bodyid[site]))
-            geoms = [g for g in range(model.ngeom)
-                     if colliding[g] and model.geom_bodyid[g] in bodies]
+            geoms = [
+                g for g in range(model.ngeom) if colliding[g] and model.geom_bodyid[g] in bodies
+            ]
             if not geoms:
                 raise ConfigurationError(
                     f"The foot carrying sole site '{name}' has no colliding geom; the robot "
@@ -68,7 +69,7 @@ class ContactEstimator:
 
     def measure(
         self, model: mujoco.MjModel, data: mujoco.MjData
-    ) -> Tuple[FootContact, FootContact, np.ndarray, bool]:
+    ) -> tuple[FootContact, FootContact, np.ndarray, bool]:
         """Contacts of both feet and the overall CoP at the current (forwarded) ``data``.
 
         Returns:
@@ -93,11 +94,14 @@ class ContactEstimator:
         forces, moments = world[:, 0], world[:, 1]  # moments: torsional/rolling (condim > 3)
         points = np.asarray(contacts.pos).reshape(-1, 3)[index]
         levers = points - data.site_xpos[list(self.site_ids)][foot]
-        moments = moments + np.stack([  # lever x force (np.cross is slow on small arrays)
-            levers[:, 1] * forces[:, 2] - levers[:, 2] * forces[:, 1],
-            levers[:, 2] * forces[:, 0] - levers[:, 0] * forces[:, 2],
-            levers[:, 0] * forces[:, 1] - levers[:, 1] * forces[:, 0],
-        ], axis=1)
+        moments = moments + np.stack(
+            [  # lever x force (np.cross is slow on small arrays)
+                levers[:, 1] * forces[:, 2] - levers[:, 2] * forces[:, 1],
+                levers[:, 2] * forces[:, 0] - levers[:, 0] * forces[:, 2],
+                levers[:, 0] * forces[:, 1] - levers[:, 1] * forces[:, 0],
+            ],
+            axis=1,
+        )
         selector = (foot[None, :] == np.arange(2)[:, None]).astype(float)  # (2, n)
         force_sums = selector @ forces
         torque_sums = selector @ moments
@@ -106,14 +110,19 @@ class ContactEstimator:
         feet = []
         for side in range(2):
             cop, in_contact = self._cop(weighted[side], force_sums[side, 2])
-            feet.append(FootContact(
-                force=frozen_array(force_sums[side]), torque=frozen_array(torque_sums[side]),
-                cop=cop, in_contact=in_contact, nb_points=int(counts[side]),
-            ))
+            feet.append(
+                FootContact(
+                    force=frozen_array(force_sums[side]),
+                    torque=frozen_array(torque_sums[side]),
+                    cop=cop,
+                    in_contact=in_contact,
+                    nb_points=int(counts[side]),
+                )
+            )
         cop, has_cop = self._cop(weighted.sum(axis=0), force_sums[:, 2].sum())
         return feet[0], feet[1], cop, has_cop
 
-    def _cop(self, weighted_points: np.ndarray, vertical_force: float) -> Tuple[np.ndarray, bool]:
+    def _cop(self, weighted_points: np.ndarray, vertical_force: float) -> tuple[np.ndarray, bool]:
         """CoP ``sum_i f_z,i p_i / sum_i f_z,i`` (eq. 31) given both sums; NaN without contact."""
         if vertical_force <= self.contact_threshold or vertical_force <= 0.0:
             return _NAN3, False

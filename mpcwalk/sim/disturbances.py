@@ -6,13 +6,13 @@ is the string ``"T,DURATION,FX,FY,FZ"`` read by :func:`parse_push`.
 """
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Optional, Sequence
 
 import mujoco
 import numpy as np
 
-from ..exceptions import ConfigurationError, MpcwalkError
+from mpcwalk.exceptions import ConfigurationError, MpcwalkError
 
 TORSO = "torso"
 """Body name meaning the robot's torso frame (``robot.torso_frame``)."""
@@ -40,9 +40,7 @@ class PushFormatError(MpcwalkError, ValueError):
 def _vector3(value, name: str) -> np.ndarray:
     array = np.asarray(value, dtype=float)
     if array.shape != (3,) or not np.all(np.isfinite(array)):
-        raise ConfigurationError(
-            f"ExternalForce.{name} must be 3 finite numbers, got {value!r}."
-        )
+        raise ConfigurationError(f"ExternalForce.{name} must be 3 finite numbers, got {value!r}.")
     array = array.copy()
     array.setflags(write=False)
     return array
@@ -67,8 +65,8 @@ class ExternalForce:
     duration: float
     force: np.ndarray
     body: str = TORSO
-    point: Optional[np.ndarray] = None
-    torque: Optional[np.ndarray] = None
+    point: np.ndarray | None = None
+    torque: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.start) and self.start >= 0.0):

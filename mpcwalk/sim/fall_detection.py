@@ -5,8 +5,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..exceptions import ConfigurationError
-from .measurements import SimState
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.sim.measurements import SimState
 
 
 @dataclass(frozen=True)

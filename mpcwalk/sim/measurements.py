@@ -6,14 +6,13 @@ simulation never change.
 
 import math
 from dataclasses import dataclass
-from typing import Tuple
 
 import numpy as np
 
-from ..generators.pattern_generator import ComState
+from mpcwalk.generators.pattern_generator import ComState
 
 
-def quaternion_to_rpy(quaternion_wxyz: np.ndarray) -> Tuple[float, float, float]:
+def quaternion_to_rpy(quaternion_wxyz: np.ndarray) -> tuple[float, float, float]:
     """Roll, pitch, yaw [rad] (Z-Y-X Euler angles) of a unit quaternion (w, x, y, z)."""
     w, x, y, z = (float(c) for c in quaternion_wxyz)
     norm2 = w * w + x * x + y * y + z * z
@@ -100,7 +99,7 @@ class Measurements:
     joint_velocities: np.ndarray
 
     @property
-    def feet(self) -> Tuple[FootContact, FootContact]:
+    def feet(self) -> tuple[FootContact, FootContact]:
         """Left and right foot contacts."""
         return self.left_foot, self.right_foot
 

@@ -15,12 +15,11 @@ import functools
 import importlib
 import os
 from pathlib import Path
-from typing import Dict, Optional, Tuple, Union
 
 import mujoco
 import numpy as np
 
-from ..exceptions import ConfigurationError, MpcwalkError
+from mpcwalk.exceptions import ConfigurationError, MpcwalkError
 
 BACKENDS = ("egl", "osmesa")
 """Headless OpenGL backends, in the order they are tried."""
@@ -29,7 +28,7 @@ BACKENDS = ("egl", "osmesa")
 class RenderingUnavailable(MpcwalkError, RuntimeError):
     """No headless OpenGL backend works on this machine, so no video can be rendered."""
 
-    def __init__(self, failures: Dict[str, str]) -> None:
+    def __init__(self, failures: dict[str, str]) -> None:
         self.failures = dict(failures)
         tried = "; ".join(f"{name}: {why}" for name, why in self.failures.items())
         super().__init__(
@@ -51,11 +50,11 @@ class VideoDependencyMissing(MpcwalkError, ImportError):
 
 
 @functools.lru_cache(maxsize=1)
-def _context_class() -> Tuple[str, type]:
+def _context_class() -> tuple[str, type]:
     """The first headless backend whose context can be created: (name, GLContext class)."""
     forced = os.environ.get("MUJOCO_GL", "").strip().lower()
     candidates = (forced,) if forced in BACKENDS else BACKENDS
-    failures: Dict[str, str] = {}
+    failures: dict[str, str] = {}
     for name in candidates:
         try:
             context_class = importlib.import_module(f"mujoco.{name}").GLContext
@@ -102,14 +101,14 @@ class VideoRecorder:
 
     def __init__(
         self,
-        path: Union[str, Path],
+        path: str | Path,
         model: mujoco.MjModel,
         *,
         fps: float = 30.0,
         width: int = 640,
         height: int = 480,
-        track_body: Optional[int] = None,
-        distance: Optional[float] = None,
+        track_body: int | None = None,
+        distance: float | None = None,
         azimuth: float = 135.0,
         elevation: float = -15.0,
         shadows: bool = False,
@@ -146,8 +145,13 @@ class VideoRecorder:
         self._pixels = np.empty((height, width, 3), dtype=np.uint8)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._writer = imageio_ffmpeg.write_frames(
-            str(self.path), (width, height), fps=self.fps, codec="libx264",
-            macro_block_size=1, quality=6, ffmpeg_log_level="error",
+            str(self.path),
+            (width, height),
+            fps=self.fps,
+            codec="libx264",
+            macro_block_size=1,
+            quality=6,
+            ffmpeg_log_level="error",
         )
         self._writer.send(None)
         self.nb_frames = 0
@@ -155,13 +159,20 @@ class VideoRecorder:
     def render(self, data: mujoco.MjData) -> np.ndarray:
         """Render ``data`` (forwarded) to an RGB image, shape (height, width, 3), uint8."""
         self._context.make_current()
-        mujoco.mjv_updateScene(self.model, data, self._option, None, self.camera,
-                               mujoco.mjtCatBit.mjCAT_ALL, self._scene)
+        mujoco.mjv_updateScene(
+            self.model,
+            data,
+            self._option,
+            None,
+            self.camera,
+            mujoco.mjtCatBit.mjCAT_ALL,
+            self._scene,
+        )
         mujoco.mjr_render(self._rect, self._scene, self._mjr_context)
         mujoco.mjr_readPixels(self._pixels, None, self._rect, self._mjr_context)
         return np.flipud(self._pixels).copy()
 
-    def capture(self, data: mujoco.MjData, time: Optional[float] = None) -> bool:
+    def capture(self, data: mujoco.MjData, time: float | None = None) -> bool:
         """Add a frame if the next frame is due at simulated ``time`` [s] (default data.time).
 
         Returns:

@@ -2,18 +2,18 @@
 
 import copy
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Iterable, List, Optional, Tuple
 
 import mujoco
 import numpy as np
 
-from ..exceptions import ConfigurationError, MpcwalkError
-from ..robots import Robot
-from .contacts import ContactEstimator
-from .disturbances import ExternalForce, resolve_body
-from ..arrays import frozen_array
-from .measurements import ImuReading, Measurements, SimState, quaternion_to_rpy
+from mpcwalk._checks import frozen_array
+from mpcwalk.exceptions import ConfigurationError, MpcwalkError
+from mpcwalk.robot.loading import Robot
+from mpcwalk.sim.contacts import ContactEstimator
+from mpcwalk.sim.disturbances import ExternalForce, resolve_body
+from mpcwalk.sim.measurements import ImuReading, Measurements, SimState, quaternion_to_rpy
 
 _UNSTABLE_WARNINGS = (
     mujoco.mjtWarning.mjWARN_BADQACC,
@@ -58,7 +58,7 @@ class Simulation:
     each physics step.
 
     Args:
-        robot: The robot (from :func:`mpcwalk.robots.load_robot`).
+        robot: The robot (from :func:`mpcwalk.robot.loading.load_robot`).
         timestep: Physics time step [s]; None keeps the robot's.
         control_period: Duration of one :meth:`step` [s], a multiple of ``timestep``.
         seed: Seed of the sensor-noise generator.
@@ -76,12 +76,12 @@ class Simulation:
         self,
         robot: Robot,
         *,
-        timestep: Optional[float] = None,
+        timestep: float | None = None,
         control_period: float = 0.01,
-        seed: Optional[int] = None,
+        seed: int | None = None,
         disturbances: Iterable[ExternalForce] = (),
         sensor_noise: SensorNoise = SensorNoise(),
-        contact_threshold: Optional[float] = None,
+        contact_threshold: float | None = None,
     ) -> None:
         self.robot = robot
         self.model: mujoco.MjModel = copy.copy(robot.mj_model)
@@ -105,20 +105,23 @@ class Simulation:
         self.sensor_noise = sensor_noise
         weight = robot.total_mass * float(np.linalg.norm(self.model.opt.gravity))
         self.contacts = ContactEstimator(
-            self.model, robot.foot_frames,
+            self.model,
+            robot.foot_frames,
             contact_threshold=0.01 * weight if contact_threshold is None else contact_threshold,
         )
         self.root_body = int(self.model.jnt_bodyid[0])
         self._sensor = {
-            name: slice(self.model.sensor(name).adr[0],
-                        self.model.sensor(name).adr[0] + self.model.sensor(name).dim[0])
+            name: slice(
+                self.model.sensor(name).adr[0],
+                self.model.sensor(name).adr[0] + self.model.sensor(name).dim[0],
+            )
             for name in ("imu_gyro", "imu_accelerometer", "imu_orientation")
         }
-        self._disturbances: List[Tuple[ExternalForce, int]] = []
+        self._disturbances: list[tuple[ExternalForce, int]] = []
         for disturbance in disturbances:
             self.add_disturbance(disturbance)
         self._substep = 0
-        self._state: Optional[SimState] = None
+        self._state: SimState | None = None
         self.reset()
 
     @property
@@ -127,7 +130,7 @@ class Simulation:
         return self._substep * self.timestep
 
     @property
-    def disturbances(self) -> Tuple[ExternalForce, ...]:
+    def disturbances(self) -> tuple[ExternalForce, ...]:
         """External forces of this simulation."""
         return tuple(force for force, _ in self._disturbances)
 
@@ -137,7 +140,10 @@ class Simulation:
         self._disturbances.append((disturbance, body_id))
 
     def reset(
-        self, q: Optional[np.ndarray] = None, *, v: Optional[np.ndarray] = None,
+        self,
+        q: np.ndarray | None = None,
+        *,
+        v: np.ndarray | None = None,
         settle: float = 0.0,
     ) -> SimState:
         """Put the robot at ``q`` (Pinocchio configuration, default ``robot.q0``) at rest.
@@ -171,7 +177,7 @@ class Simulation:
         self._state = None
         return self.state()
 
-    def step(self, joint_targets: Optional[np.ndarray] = None) -> SimState:
+    def step(self, joint_targets: np.ndarray | None = None) -> SimState:
         """Simulate one control period holding the joint targets.
 
         Args:
@@ -257,18 +263,31 @@ class Simulation:
             encoders += rng.normal(0.0, noise.encoder_std, encoders.shape)
         quaternion /= np.linalg.norm(quaternion)
         roll, pitch, yaw = quaternion_to_rpy(quaternion)
-        imu = ImuReading(gyro=frozen_array(gyro), accelerometer=frozen_array(accelerometer),
-                         quaternion=frozen_array(quaternion), roll=roll, pitch=pitch, yaw=yaw)
+        imu = ImuReading(
+            gyro=frozen_array(gyro),
+            accelerometer=frozen_array(accelerometer),
+            quaternion=frozen_array(quaternion),
+            roll=roll,
+            pitch=pitch,
+            yaw=yaw,
+        )
         left, right, cop, has_cop = self.contacts.measure(model, data)
         measurements = Measurements(
-            imu=imu, left_foot=left, right_foot=right, cop=cop, has_cop=has_cop,
+            imu=imu,
+            left_foot=left,
+            right_foot=right,
+            cop=cop,
+            has_cop=has_cop,
             com=frozen_array(data.subtree_com[self.root_body]),
             com_velocity=frozen_array(data.subtree_linvel[self.root_body]),
-            joint_positions=frozen_array(encoders), joint_velocities=frozen_array(v[6:]),
+            joint_positions=frozen_array(encoders),
+            joint_velocities=frozen_array(v[6:]),
         )
         sites = list(self.contacts.site_ids)
         return SimState(
-            time=self.time, q=frozen_array(q), v=frozen_array(v),
+            time=self.time,
+            q=frozen_array(q),
+            v=frozen_array(v),
             base_position=frozen_array(data.xpos[self.root_body]),
             base_rotation=frozen_array(data.xmat[self.root_body], (3, 3)),
             sole_positions=frozen_array(data.site_xpos[sites]),

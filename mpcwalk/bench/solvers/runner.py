@@ -1,0 +1,420 @@
+"""``mpcwalk bench solvers``: every QP back-end on the walking QPs, offline and in the loop.
+
+Stages, in order, so that nothing else of this benchmark runs while solves
+are timed:
+
+1. untimed, in a pool of ``prep_workers`` processes: the reference walks,
+   the problems sampled from them, a feasibility check of each (Clarabel on
+   the sparse formulation; infeasible problems are dropped and listed), and
+   the export of the qpbenchmark test set;
+2. timed, in ``timing_workers`` processes (default 1): every case
+   (problem x formulation x back-end x tolerance level x start) through
+   :class:`~mpcwalk.bench.solvers.timed_pool.TimedPool`; rows go to ``results.csv.gz``;
+3. timed, one process: per-tick time of every generator with the qpmpc peer
+   (:mod:`mpcwalk.bench.ticks`), then the in-loop walks;
+4. qpbenchmark itself on the exported set (reduced: a subset of solvers);
+5. the report and its figures.
+"""
+
+import json
+import multiprocessing
+import os
+import platform
+import shutil
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import asdict
+from pathlib import Path
+
+import numpy as np
+
+from mpcwalk.bench.solvers.backends import (
+    KNOWN_SLOW_BACKENDS,
+    OPTI_BACKEND,
+    benchmark_backends,
+    is_applicable,
+    supports_warm_start,
+)
+from mpcwalk.bench.solvers.case_runner import SolverCase
+from mpcwalk.bench.solvers.config import SolverBenchConfig
+from mpcwalk.bench.solvers.problem_set import (
+    WalkingProblem,
+    get_family,
+    reference_walk,
+    sample_problems,
+)
+from mpcwalk.bench.solvers.results import RESULTS_FILE, select, write_results
+from mpcwalk.bench.solvers.timed_pool import TimedPool, single_thread_environment
+from mpcwalk.bench.solvers.tolerances import select_levels
+
+#: qpsolvers back-ends left out of the reduced qpbenchmark run by default
+#: (JAX-based: each solve recompiles, seconds per problem).
+SLOW_QPBENCHMARK_SOLVERS = ("jaxopt_osqp", "qpax")
+
+
+def _silence_stdout() -> None:  # pragma: no cover - runs in the child
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, 1)
+
+
+def run_isolated(function, *args, **kwargs):
+    """Call ``function`` in a fresh single-threaded process (timed work)."""
+    context = multiprocessing.get_context("spawn")
+    with single_thread_environment():
+        with ProcessPoolExecutor(1, mp_context=context, initializer=_silence_stdout) as pool:
+            return pool.submit(function, *args, **kwargs).result()
+
+
+def _reference_found(problem: WalkingProblem) -> bool:
+    """Whether Clarabel (or another interior-point back-end) solves the problem."""
+    import qpsolvers
+
+    from mpcwalk.qp.solvers.registry import make_solver
+
+    family = get_family(problem.family)
+    qp = family.build_qp(problem.horizon, "sparse", problem.control_period)
+    family.update_qp(qp, problem.state, problem.time, problem.schedule())
+    name = next(
+        (s for s in ("clarabel", "piqp", "proxqp") if s in qpsolvers.available_solvers),
+        "osqp-direct",
+    )
+    return bool(make_solver(name).solve(qp).success)
+
+
+def prepare_walk(family: str, walk: str, config: SolverBenchConfig) -> dict:
+    """Reference walk, problems and their feasibility for one family and walk."""
+    ref = reference_walk(family, walk, config.nb_steps, config.control_period)
+    main_horizon = get_family(family).parameters.horizon
+    sweep = family == config.sweep_family and walk == config.sweep_walk
+    horizons = sorted({main_horizon} | (set(config.sweep_horizons) if sweep else set()))
+    problems = sample_problems(
+        ref,
+        horizons,
+        nb_nominal=config.nb_nominal,
+        nb_pushed=config.nb_pushed,
+        push_speed=config.push_speed,
+        warmup_ticks=config.warmup_ticks,
+        control_period=config.control_period,
+        seed=config.seed,
+    )
+    nominal = list(dict.fromkeys(p.tick for p in problems if not p.pushed))
+    pushed = list(dict.fromkeys(p.tick for p in problems if p.pushed))
+    sweep_keys = {(t, False) for t in nominal[: config.sweep_nb_nominal]}
+    sweep_keys |= {(t, True) for t in pushed[: config.sweep_nb_pushed]}
+    kept, dropped = [], []
+    for p in problems:
+        tags = ["main"] if p.horizon == main_horizon else []
+        tags += ["sweep"] if sweep and (p.tick, p.pushed) in sweep_keys else []
+        if not tags:
+            continue
+        (kept if _reference_found(p) else dropped).append((p, "+".join(tags)))
+    return {
+        "family": family,
+        "walk": walk,
+        "kept": kept,
+        "dropped": dropped,
+        "reference_failures": ref.nb_failures,
+    }
+
+
+def make_cases(
+    problems: list[tuple[WalkingProblem, str]], config: SolverBenchConfig, backends: list[str]
+) -> list[SolverCase]:
+    """Every case, by increasing horizon, cold before warm, shuffled otherwise
+    (seeded) so that a drift of the machine's load spreads over all back-ends."""
+    main_levels = select_levels(config.levels, config.time_limit)
+    main_starts, sweep_starts = config.starts, config.sweep_starts
+    sweep_levels = select_levels(config.sweep_levels, config.time_limit)
+    sampled = {}  # family -> the one problem given to known slow back-ends
+    for problem, tag in problems:
+        if "main" in tag.split("+") and not problem.pushed:
+            sampled.setdefault(problem.family, problem.name)
+    cases = []
+    for problem, tag in problems:
+        tags = tag.split("+")
+        levels = dict(main_levels) if "main" in tags else {}
+        starts = list(main_starts) if "main" in tags else []
+        if "sweep" in tags:
+            levels.update(sweep_levels)
+            starts += [s for s in sweep_starts if s not in starts]
+        for formulation in config.formulations:
+            for backend in backends:
+                if not is_applicable(backend, formulation):
+                    continue
+                if backend == OPTI_BACKEND and problem.horizon > config.opti_max_horizon:
+                    continue
+                slow = backend in KNOWN_SLOW_BACKENDS
+                if slow and sampled.get(problem.family) != problem.name:
+                    continue
+                for level in levels.values():
+                    if slow and level.name != "default":
+                        continue
+                    for start in starts:
+                        if start == "warm" and (slow or not supports_warm_start(backend)):
+                            continue
+                        cases.append(SolverCase(problem, formulation, backend, level, start, tag))
+    rng = np.random.default_rng(config.seed)
+    order = rng.permutation(len(cases))
+    rank = np.empty(len(cases), dtype=int)
+    rank[order] = np.arange(len(cases))
+    return [
+        cases[i]
+        for i in sorted(
+            range(len(cases)),
+            key=lambda i: (cases[i].problem.horizon, cases[i].start == "warm", rank[i]),
+        )
+    ]
+
+
+def machine_summary() -> str:
+    """CPU, cores, Python."""
+    cpu = platform.processor() or platform.machine()
+    try:
+        import cpuinfo
+
+        cpu = cpuinfo.get_cpu_info().get("brand_raw", cpu)
+    except Exception:
+        pass
+    return f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}"
+
+
+def run_solver_benchmark(
+    config: SolverBenchConfig,
+    out_dir: Path,
+    *,
+    progress: bool = True,
+    command: str = "",
+    loops: bool = True,
+    qpbenchmark_run: bool = True,
+) -> dict:
+    """Run the benchmark and write ``results.csv.gz``, ``report.md`` and figures.
+
+    Returns:
+        A summary: paths, row count, durations of the stages [s].
+    """
+    from mpcwalk.bench.solvers.report import write_report
+
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    shutil.rmtree(out_dir / "qpbenchmark", ignore_errors=True)  # no stale problems or results
+    durations: dict[str, float] = {}
+    backends = list(config.backends) if config.backends else benchmark_backends()
+    t0 = time.perf_counter()
+    context = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(config.prep_workers, mp_context=context) as pool:
+        jobs = [
+            pool.submit(prepare_walk, f, w, config)
+            for f in dict.fromkeys(config.families + (config.sweep_family,))
+            for w in dict.fromkeys(config.walks + (config.sweep_walk,))
+            if (f in config.families and w in config.walks)
+            or (f == config.sweep_family and w == config.sweep_walk)
+        ]
+        prepared = [job.result() for job in jobs]
+        problems = [item for p in prepared for item in p["kept"]]
+        export = [
+            (p, f)
+            for p, tag in problems
+            for f in config.formulations
+            if p.horizon <= config.export_max_horizon
+        ]
+        from mpcwalk.bench.solvers.qpbenchmark_export import export_test_set
+
+        chunks = [export[i :: config.prep_workers] for i in range(config.prep_workers)]
+        exported = [
+            pool.submit(
+                export_test_set, chunk, out_dir / "qpbenchmark", time_limit=config.time_limit
+            )
+            for chunk in chunks
+            if chunk
+        ]
+        nb_exported = sum(len(job.result()) for job in exported)
+    durations["prepare"] = time.perf_counter() - t0
+
+    cases = make_cases(problems, config, backends)
+    t0 = time.perf_counter()
+    rows = TimedPool(config.timing_workers).run(cases, progress=progress, desc="solves")
+    durations["solves"] = time.perf_counter() - t0
+    write_results(rows, out_dir / RESULTS_FILE)
+
+    extras: dict = {
+        "prepared": [
+            {k: v for k, v in p.items() if k not in ("kept", "dropped")}
+            | {"nb_kept": len(p["kept"]), "dropped": [q.name for q, _ in p["dropped"]]}
+            for p in prepared
+        ],
+        "nb_exported": nb_exported,
+        "backends": backends,
+    }
+    if config.ticks:
+        t0 = time.perf_counter()
+        extras["ticks"] = run_isolated(_tick_benchmark, _fast_qpsolvers(rows, config), config)
+        durations["ticks"] = time.perf_counter() - t0
+    if loops:
+        t0 = time.perf_counter()
+        extras["loops"] = _run_loops(rows, config, progress)
+        durations["loops"] = time.perf_counter() - t0
+    if qpbenchmark_run and nb_exported:
+        t0 = time.perf_counter()
+        extras["qpbenchmark"] = _run_qpbenchmark(out_dir, config)
+        durations["qpbenchmark"] = time.perf_counter() - t0
+    extras["durations"] = durations
+    extras["machine"] = machine_summary()
+    extras["command"] = command
+    extras["config"] = asdict(config)
+    (out_dir / "extras.json").write_text(
+        json.dumps(extras, separators=(",", ":"), default=str) + "\n"
+    )
+    write_report(out_dir, rows, config, extras)
+    return {
+        "results": out_dir / RESULTS_FILE,
+        "report": out_dir / "report.md",
+        "rows": len(rows),
+        "durations": durations,
+    }
+
+
+def rewrite_report(out_dir: Path) -> Path:
+    """Write ``report.md`` and the figures again from ``results.csv.gz`` and
+    ``extras.json`` of a finished run (no solve is made)."""
+    from mpcwalk.bench.solvers.report import write_report
+    from mpcwalk.bench.solvers.results import read_results
+
+    out_dir = Path(out_dir)
+    extras = json.loads((out_dir / "extras.json").read_text())
+    fields = {
+        k: tuple(v) if isinstance(v, list) else v for k, v in extras.get("config", {}).items()
+    }
+    config = SolverBenchConfig(**fields)
+    return write_report(out_dir, read_results(out_dir / RESULTS_FILE), config, extras)
+
+
+def _fast_qpsolvers(rows: list[dict], config: SolverBenchConfig, limit: float = 2e-3) -> list[str]:
+    """qpsolvers back-ends whose median on the mpc family's dense QP is under ``limit``."""
+    import qpsolvers
+
+    sel = select(
+        rows, family="mpc", formulation="dense", tolerance="default", start="cold", success=True
+    )
+    fast = []
+    for solver in qpsolvers.available_solvers:
+        times = [r["runtime"] for r in sel if r["solver"] == solver and "main" in r["set"]]
+        if times and np.median(times) < limit:
+            fast.append(solver)
+    return fast
+
+
+def _tick_benchmark(solvers: list[str], config: SolverBenchConfig) -> list[dict]:
+    from mpcwalk.bench.ticks import run_tick_benchmark
+
+    results = run_tick_benchmark(
+        nb_steps=config.nb_steps,
+        control_period=config.control_period,
+        solvers=solvers,
+        include_peer=True,
+        progress=False,
+    )
+    return [asdict(r) for r in results]
+
+
+def _loop_candidates(rows: list[dict], config: SolverBenchConfig) -> list[tuple[str, str]]:
+    """(back-end, formulation) pairs fast enough on the loop's QP (family mpc)."""
+    out = []
+    sel = select(rows, family="mpc", tolerance="default", success=True)
+    for formulation in config.formulations:
+        for backend in dict.fromkeys(r["solver"] for r in sel):
+            if backend == OPTI_BACKEND:
+                continue
+            mine = [
+                r
+                for r in sel
+                if r["solver"] == backend and r["formulation"] == formulation and "main" in r["set"]
+            ]
+            warm = [r["runtime"] for r in mine if r["start"] == "warm"]
+            times = warm or [r["runtime"] for r in mine]
+            if times and np.median(times) < config.loop_backends_max_time:
+                out.append((backend, formulation))
+    return out
+
+
+def _loop_batch(
+    pairs: list[tuple[str, str]], config: SolverBenchConfig, progress: bool = False
+) -> list[dict]:
+    from tqdm import tqdm
+
+    from mpcwalk.bench.solvers.in_loop import run_lipm_loop, run_mujoco_loop
+    from mpcwalk.bench.solvers.tolerances import tolerance_levels
+
+    level = tolerance_levels(config.time_limit)["default"]
+    out: dict[str, list[dict]] = {"lipm": [], "mujoco": []}
+    for backend, formulation in tqdm(pairs, desc="loops", disable=not progress):
+        runs = [
+            run_lipm_loop(
+                backend,
+                formulation,
+                level,
+                nb_steps=config.loop_nb_steps,
+                control_period=config.control_period,
+                nb_pushes=config.loop_pushes,
+                push_speed=config.loop_push_speed,
+                seed=config.seed,
+            )
+        ]
+        if config.mujoco_robot:
+            runs.append(
+                run_mujoco_loop(
+                    backend,
+                    formulation,
+                    level,
+                    robot=config.mujoco_robot,
+                    nb_steps=config.loop_nb_steps,
+                    control_period=config.control_period,
+                )
+            )
+        for run in runs:
+            if run is None:
+                continue
+            summary = run.summary()
+            summary["solve_times_us"] = [round(t * 1e6, 1) for t in run.solve_times]
+            out[run.plant].append(summary)
+    return out
+
+
+def _run_loops(rows: list[dict], config: SolverBenchConfig, progress: bool) -> dict:
+    from mpcwalk.bench.solvers.in_loop import mujoco_walk_runner
+
+    pairs = _loop_candidates(rows, config)
+    runs = run_isolated(_loop_batch, pairs, config, progress) if pairs else {}
+    return {
+        "lipm": runs.get("lipm", []),
+        "mujoco": runs.get("mujoco", []),
+        "mujoco_available": mujoco_walk_runner() is not None,
+        "mujoco_robot": config.mujoco_robot,
+    }
+
+
+def _qpbenchmark_batch(out_dir: Path, config: SolverBenchConfig) -> dict:
+    import qpsolvers
+
+    from mpcwalk.bench.solvers.qpbenchmark_export import run_qpbenchmark
+
+    solvers = config.qpbenchmark_solvers
+    if solvers is None:
+        solvers = [s for s in qpsolvers.available_solvers if s not in SLOW_QPBENCHMARK_SOLVERS]
+    summary = run_qpbenchmark(
+        out_dir / "qpbenchmark", solvers=solvers, time_limit=config.time_limit
+    )
+    import qpbenchmark
+
+    summary["solvers"] = list(solvers)
+    summary["version"] = qpbenchmark.__version__
+    return summary
+
+
+def _run_qpbenchmark(out_dir: Path, config: SolverBenchConfig) -> dict | None:
+    try:
+        import qpbenchmark  # noqa: F401
+    except ImportError:
+        return {"error": "qpbenchmark is not installed: pip install 'mpcwalk[bench]'"}
+    if config.qpbenchmark_solvers == ():
+        return None
+    return run_isolated(_qpbenchmark_batch, out_dir, config)

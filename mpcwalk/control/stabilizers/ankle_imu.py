@@ -1,0 +1,153 @@
+"""Paper A's ankle strategy and IMU correction as a stabilizer.
+
+Ankle strategy (paper A, static stability controller): in contact, the support foot's normal
+should point at the CoM as the reference motion has it. The rotation that takes the measured
+sole-to-CoM vector onto the reference one, ``omega = (v_meas x v_ref) / |v|^2`` [rad], is the
+error of a PID whose output turns the ankle pitch and roll joints of the feet in contact. A
+joint angle ``q`` turns the foot relative to the shank, so with the foot on the ground it turns
+the body above by ``-q`` about the joint axis: the correction is ``dq_j = -u . a_j`` with
+``a_j`` the axis (the sole's y axis for the pitch, its x axis for the roll).
+
+IMU correction: the body inclination (IMU roll and pitch, first-order low-pass filtered) is
+fed back the same way, turning the feet in contact so that the body comes back upright and
+the CoM back over the support.
+"""
+
+import math
+
+import numpy as np
+
+from mpcwalk.control.stabilizers import Stabilizer
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.footsteps.footstep import Side
+
+
+class AnkleImuStabilizer(Stabilizer):
+    """PID on the ankle joints keeping the support normal at the CoM, plus IMU correction.
+
+    Args:
+        kp: Proportional gain [rad/rad].
+        ki: Integral gain [1/s].
+        kd: Derivative gain [s].
+        imu_gain: Ankle correction per radian of filtered body inclination [rad/rad].
+        imu_cutoff: Cut-off frequency of the IMU low-pass filter [Hz].
+        max_correction: Bound of the correction of each ankle joint [rad].
+        integral_limit: Bound of the integrated error [rad s].
+    """
+
+    name = "ankle-imu"
+
+    def __init__(
+        self,
+        *,
+        kp: float = 0.5,
+        ki: float = 0.2,
+        kd: float = 0.02,
+        imu_gain: float = 0.2,
+        imu_cutoff: float = 2.0,
+        max_correction: float = 0.05,
+        integral_limit: float = 0.1,
+    ) -> None:
+        values = dict(
+            kp=kp,
+            ki=ki,
+            kd=kd,
+            imu_gain=imu_gain,
+            imu_cutoff=imu_cutoff,
+            max_correction=max_correction,
+            integral_limit=integral_limit,
+        )
+        for key, value in values.items():
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0.0):
+                raise ConfigurationError(
+                    f"AnkleImuStabilizer {key} must be a non-negative number, got {value!r}."
+                )
+        if imu_cutoff <= 0.0:
+            raise ConfigurationError("AnkleImuStabilizer imu_cutoff must be positive [Hz].")
+        self.kp, self.ki, self.kd = float(kp), float(ki), float(kd)
+        self.imu_gain, self.imu_cutoff = float(imu_gain), float(imu_cutoff)
+        self.max_correction, self.integral_limit = float(max_correction), float(integral_limit)
+        self._joints = None
+        self.reset(None)
+
+    def reset(self, controller) -> None:
+        self.integral = np.zeros(3)
+        self.previous_error: np.ndarray | None = None
+        self.inclination = np.zeros(2)  # filtered (roll, pitch) [rad]
+        self.last_correction = np.zeros(4)  # left pitch, left roll, right pitch, right roll
+        if controller is not None:
+            names = controller.robot.joint_names
+            try:
+                self._joints = {
+                    side: (
+                        names.index(f"{side.value}_ankle_pitch"),
+                        names.index(f"{side.value}_ankle_roll"),
+                    )
+                    for side in Side
+                }
+            except ValueError:
+                raise ConfigurationError(
+                    f"The ankle-imu stabilizer needs joints '<side>_ankle_pitch' and "
+                    f"'<side>_ankle_roll'; robot '{controller.robot.name}' has "
+                    f"{', '.join(names)}."
+                ) from None
+
+    def _filter(self, imu, reference_base_quaternion, dt: float) -> np.ndarray:
+        """Low-pass filtered body inclination (roll, pitch) [rad] relative to the reference
+        base orientation (the IK's, pinocchio quaternion x, y, z, w)."""
+        x, y, z, w = (float(c) for c in reference_base_quaternion)
+        roll_ref = math.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
+        pitch_ref = math.asin(max(-1.0, min(1.0, 2.0 * (w * y - z * x))))
+        alpha = dt / (dt + 1.0 / (2.0 * math.pi * self.imu_cutoff))
+        error = np.array([imu.roll - roll_ref, imu.pitch - pitch_ref])
+        self.inclination += alpha * (error - self.inclination)
+        return self.inclination
+
+    def adjust_joint_targets(self, controller, t, joint_targets, feet, measurement):
+        positions = getattr(measurement, "sole_positions", None)
+        sensors = getattr(measurement, "measurements", None)
+        if positions is None or sensors is None or self._joints is None:
+            return joint_targets
+        dt = controller.control_period
+        roll, pitch = self._filter(sensors.imu, controller.q_ref[3:7], dt)
+        contacts = feet.contact_sides
+        if not contacts:
+            return joint_targets
+        # error: rotation taking the measured sole->CoM vector onto the reference one
+        weights = dict(
+            zip(Side, controller.support_weights(controller.last_output.zmp_command, feet))
+        )
+        error = np.zeros(3)
+        com_ref = controller.last_output.com_target
+        for side in contacts:
+            index = 0 if side is Side.LEFT else 1
+            v_meas = sensors.com - positions[index]
+            v_ref = com_ref - feet[side].position
+            error += weights[side] * np.cross(v_meas, v_ref) / float(np.dot(v_ref, v_ref))
+        error[2] = 0.0
+        derivative = (
+            np.zeros(3) if self.previous_error is None else (error - self.previous_error) / dt
+        )
+        self.previous_error = error
+        self.integral = np.clip(
+            self.integral + error * dt, -self.integral_limit, self.integral_limit
+        )
+        command = self.kp * error + self.ki * self.integral + self.kd * derivative
+        # body inclination back to upright: world rotation -(roll, pitch)
+        command += self.imu_gain * np.array([-roll, -pitch, 0.0])
+        out = np.array(joint_targets, dtype=float, copy=True)
+        self.last_correction = np.zeros(4)
+        rotations = measurement.sole_rotations
+        for side in contacts:
+            index = 0 if side is Side.LEFT else 1
+            pitch_joint, roll_joint = self._joints[side]
+            axes = rotations[index]
+            dq = np.clip(
+                [-command @ axes[:, 1], -command @ axes[:, 0]],
+                -self.max_correction,
+                self.max_correction,
+            )
+            out[pitch_joint] += dq[0]
+            out[roll_joint] += dq[1]
+            self.last_correction[2 * index : 2 * index + 2] = dq
+        return out

@@ -1,0 +1,178 @@
+"""Paper M's gyro stabilizer (eq. 26-30): leg joint offsets from the torso's angular rates.
+
+The torso is kept upright, so its roll and pitch rates should be zero while walking; what the
+gyroscope measures is model error and disturbance. The stabilizer adds to the servo targets
+computed by the IK, for both legs::
+
+    dq_hip_roll  = K_hr * w_roll     dq_hip_pitch = K_hp * w_pitch     dq_knee = K_k * w_pitch
+    dq_foot_pitch = K_fp * w_pitch   dq_foot_roll = K_fr * w_roll
+
+with the paper's gains (seconds, i.e. rad per rad/s) as defaults. The rates are those of the
+torso about the horizontal axes of its heading frame (forward ``x``, left ``y``), computed
+from the gyroscope and the IMU orientation, so an IMU mounted in any orientation (Talos's is
+upside down) gives the same rates.
+
+Signs. Paper M states the offsets as positive gains on its robot's joints. Here the sign of
+each offset is taken from the joint's axis at the nominal posture, so that the offsets are
+*correcting* on every robot: with the foot flat on the ground, the torso's roll relative to
+the ground is minus the sum of the roll joint angles about ``+x`` along the leg, so a positive
+roll rate (torso falling to the right) is answered by increasing the roll joints about ``+x``,
+which rotates the torso back to the left; the same holds in pitch about ``+y``. A joint whose
+axis points along ``-x`` (or ``-y``) gets the offset with the opposite sign.
+"""
+
+import math
+
+import numpy as np
+import pinocchio as pin
+
+from mpcwalk.control.stabilizers import Stabilizer
+from mpcwalk.exceptions import ConfigurationError
+
+#: Paper M's gains [s]: hip roll, hip pitch, knee, foot pitch, foot roll.
+PAPER_M_GAINS = {
+    "hip_roll": 0.01,
+    "hip_pitch": 0.01,
+    "knee": 0.01,
+    "foot_pitch": 0.02,
+    "foot_roll": 0.05,
+}
+
+#: Joint of each gain: the rate it answers (0 roll, 1 pitch), the world axis its sign is
+#: taken from, and the joint-name fragments that identify it on a leg (first match wins).
+_JOINTS = {
+    "hip_roll": (0, ("hip_roll",)),
+    "hip_pitch": (1, ("hip_pitch",)),
+    "knee": (1, ("knee",)),
+    "foot_pitch": (1, ("foot_pitch", "ankle_pitch")),
+    "foot_roll": (0, ("foot_roll", "ankle_roll")),
+}
+
+
+def heading_rates(gyro: np.ndarray, imu_quaternion_wxyz: np.ndarray) -> np.ndarray:
+    """Roll and pitch rates [rad/s] of the IMU's body about the forward and left axes of its
+    heading frame (world frame turned by the body's yaw), shape (2,)."""
+    w, x, y, z = (float(c) for c in imu_quaternion_wxyz)
+    rotation = pin.Quaternion(w, x, y, z).normalized().matrix()
+    omega_world = rotation @ np.asarray(gyro, dtype=float)
+    heading = math.atan2(rotation[1, 0], rotation[0, 0])  # of the IMU's x axis
+    c, s = math.cos(heading), math.sin(heading)
+    return np.array(
+        [c * omega_world[0] + s * omega_world[1], -s * omega_world[0] + c * omega_world[1]]
+    )
+
+
+class GyroStabilizer(Stabilizer):
+    """Paper M's stabilizer: leg joint offsets proportional to the torso roll/pitch rates.
+
+    Args:
+        hip_roll: Gain K_hr [s].
+        hip_pitch: Gain K_hp [s].
+        knee: Gain K_k [s].
+        foot_pitch: Gain K_fp [s].
+        foot_roll: Gain K_fr [s].
+        max_offset: Bound of each joint offset [rad].
+
+    Raises:
+        ConfigurationError: A negative or non-finite gain; on reset, a robot whose legs lack
+            one of the joints.
+    """
+
+    name = "gyro"
+
+    def __init__(
+        self,
+        *,
+        hip_roll: float = PAPER_M_GAINS["hip_roll"],
+        hip_pitch: float = PAPER_M_GAINS["hip_pitch"],
+        knee: float = PAPER_M_GAINS["knee"],
+        foot_pitch: float = PAPER_M_GAINS["foot_pitch"],
+        foot_roll: float = PAPER_M_GAINS["foot_roll"],
+        max_offset: float = 0.2,
+    ) -> None:
+        gains = dict(
+            hip_roll=hip_roll,
+            hip_pitch=hip_pitch,
+            knee=knee,
+            foot_pitch=foot_pitch,
+            foot_roll=foot_roll,
+            max_offset=max_offset,
+        )
+        for key, value in gains.items():
+            if isinstance(value, bool) or not (
+                isinstance(value, (int, float)) and math.isfinite(value) and value >= 0.0
+            ):
+                raise ConfigurationError(
+                    f"GyroStabilizer {key} must be a non-negative number of seconds (rad per "
+                    f"rad/s), got {value!r}; paper M uses {PAPER_M_GAINS.get(key, 0.2)}."
+                )
+        self.gains = {key: float(gains[key]) for key in _JOINTS}
+        self.max_offset = float(max_offset)
+        self._indices = np.zeros(0, dtype=int)
+        self._coefficients = np.zeros((0, 2))  # per joint: offset per (roll, pitch) rate
+        self.last_rates = np.zeros(2)
+        self.last_offsets = np.zeros(0)
+
+    @staticmethod
+    def _leg_joints(robot) -> list[tuple[str, int, str]]:
+        """(gain name, joint index in robot.joint_names, joint name) of both legs."""
+        names = list(robot.joint_names)
+        found, missing = [], []
+        for side in ("left", "right"):
+            leg = [n for n in names if n.startswith((side, side[0] + "_"))]
+            for key, (_, fragments) in _JOINTS.items():
+                match = next((n for fragment in fragments for n in leg if fragment in n), None)
+                if match is None:
+                    missing.append(f"{side} {key}")
+                else:
+                    found.append((key, names.index(match), match))
+        if missing:
+            raise ConfigurationError(
+                f"The gyro stabilizer needs the leg joints hip roll, hip pitch, knee, foot (or "
+                f"ankle) pitch and roll on both legs; robot '{robot.name}' lacks "
+                f"{', '.join(missing)} among {', '.join(names)}."
+            )
+        return found
+
+    def reset(self, controller) -> None:
+        self.last_rates = np.zeros(2)
+        if controller is None:
+            return
+        robot = controller.robot
+        model, data = robot.model, robot.model.createData()
+        q0 = robot.q0
+        pin.computeJointJacobians(model, data, q0)
+        indices, coefficients = [], []
+        for key, index, name in self._leg_joints(robot):
+            joint_id = model.getJointId(name)
+            column = model.joints[joint_id].idx_v
+            jacobian = pin.getJointJacobian(model, data, joint_id, pin.LOCAL_WORLD_ALIGNED)
+            axis = jacobian[3:6, column]
+            rate = _JOINTS[key][0]
+            sign = 1.0 if axis[rate] >= 0.0 else -1.0
+            row = np.zeros(2)
+            row[rate] = sign * self.gains[key]
+            indices.append(index)
+            coefficients.append(row)
+        self._indices = np.array(indices, dtype=int)
+        self._coefficients = np.array(coefficients)
+        self.last_offsets = np.zeros(len(indices))
+
+    def offsets(self, rates: np.ndarray) -> dict[int, float]:
+        """Joint offsets [rad] (joint index -> offset) for roll/pitch rates [rad/s]."""
+        values = np.clip(
+            self._coefficients @ np.asarray(rates, dtype=float), -self.max_offset, self.max_offset
+        )
+        return dict(zip(self._indices.tolist(), values.tolist()))
+
+    def adjust_joint_targets(self, controller, t, joint_targets, feet, measurement):
+        sensors = getattr(measurement, "measurements", None)
+        imu: object | None = getattr(sensors, "imu", None)
+        if imu is None or not len(self._indices):
+            return joint_targets
+        self.last_rates = heading_rates(imu.gyro, imu.quaternion)
+        values = np.clip(self._coefficients @ self.last_rates, -self.max_offset, self.max_offset)
+        self.last_offsets = values
+        out = np.array(joint_targets, dtype=float, copy=True)
+        np.add.at(out, self._indices, values)
+        return out

@@ -1,0 +1,272 @@
+"""Command line of the simulated walks: ``mpcwalk walk`` and ``mpcwalk robots``.
+
+``mpcwalk walk`` simulates one walk and writes into ``--out``: ``metrics.json``, the per-tick
+log (``walk_log.npz``, or ``.csv`` with ``--log-format csv``), ``top_view.png`` (footsteps,
+landed soles, CoM and measured CoP from above), ``com_cop.png`` (CoM, ZMP reference and
+measured CoP over time) and, with ``--video``, ``walk.mp4``.
+"""
+
+import argparse
+import json
+from pathlib import Path
+
+from mpcwalk.control.stabilizers import STABILIZER_NAMES
+from mpcwalk.exceptions import ConfigurationError
+
+
+def add_walk_parser(sub) -> argparse.ArgumentParser:
+    """Add the ``walk`` sub-command to ``sub`` (the result of ``add_subparsers``)."""
+    p = sub.add_parser(
+        "walk",
+        help="simulate a robot walking in MuJoCo and write metrics, log, plots (and a video)",
+        description="Plan footsteps from a velocity command (paper M) or a .mdat path file "
+        "(paper A), drive the robot with a pattern generator, the whole-body IK and its "
+        "position servos in MuJoCo, and write metrics.json, the per-tick log, a top-view plot "
+        "and a CoM/CoP-over-time plot into --out (and walk.mp4 with --video). Walking "
+        "defaults (step duration, swing height, leg limits) come from the robot's preset.",
+    )
+    p.add_argument("--robot", default="bioloid-like", help="robot name (see `mpcwalk robots`)")
+    p.add_argument(
+        "--generator", default="mpc", help="pattern generator (see `mpcwalk generators`)"
+    )
+    p.add_argument("--vx", type=float, default=None, help="forward velocity [m/s] (default 0.1)")
+    p.add_argument("--vy", type=float, default=None, help="lateral velocity [m/s] (default 0)")
+    p.add_argument("--vyaw", type=float, default=None, help="yaw rate [rad/s] (default 0)")
+    p.add_argument(
+        "--path",
+        type=Path,
+        default=None,
+        help="footstep path file (.mdat, paper A) instead of a velocity command",
+    )
+    p.add_argument(
+        "--duration",
+        type=float,
+        default=None,
+        help="walking time [s]: round(duration / T) steps (plus 1 s standing before "
+        "and after); with --path, the path is cut after that many steps",
+    )
+    p.add_argument("--steps", type=int, default=None, help="number of steps instead of --duration")
+    p.add_argument(
+        "--step-duration",
+        type=float,
+        default=None,
+        help="step duration T [s] (default: the robot preset's)",
+    )
+    p.add_argument(
+        "--ds-ratio",
+        type=float,
+        default=None,
+        help="double support ratio r_ds (default: the robot preset's)",
+    )
+    p.add_argument(
+        "--step-height",
+        type=float,
+        default=None,
+        help="swing-foot height [m] (default: the robot preset's)",
+    )
+    p.add_argument("--control-period", type=float, default=0.01, help="controller tick [s]")
+    p.add_argument("--solver", default=None, help="QP solver of the QP generators")
+    p.add_argument(
+        "--stabilizer",
+        choices=STABILIZER_NAMES,
+        default="none",
+        help="stabilizer on the servo targets (ankle-imu: paper A's ankle strategy "
+        "and IMU correction; gyro: paper M's leg offsets from the torso's roll and "
+        "pitch rates, eq. 26-30)",
+    )
+    p.add_argument(
+        "--arm-swing",
+        type=float,
+        default=0.0,
+        metavar="S",
+        help="paper M's arm swing factor s (eq. 24-25): each hand moves forward by "
+        "s times the opposite foot's displacement; paper M uses 0.8 (default 0: "
+        "arms still)",
+    )
+    p.add_argument(
+        "--reaim",
+        dest="reaim",
+        action="store_true",
+        default=None,
+        help="paper A's state machine: re-aim each step from the measured support "
+        "foot (drift does not accumulate); default: on with --path",
+    )
+    p.add_argument(
+        "--no-reaim",
+        dest="reaim",
+        action="store_false",
+        help="follow the planned footsteps without re-aiming",
+    )
+    p.add_argument(
+        "--swing-profile",
+        choices=("cosine", "ctraj"),
+        default=None,
+        help="swing foot: paper M's cosines or paper A's quintic Cartesian lift and "
+        "lower (default: ctraj with --stabilizer ankle-imu, i.e. paper A's gait)",
+    )
+    p.add_argument(
+        "--no-feedback",
+        action="store_true",
+        help="open loop: no measured CoM to the generator, no DCM feedback",
+    )
+    p.add_argument(
+        "--push",
+        action="append",
+        default=[],
+        metavar="T,DURATION,FX,FY,FZ",
+        help="push the torso: start [s], duration [s], world force [N]; repeatable",
+    )
+    p.add_argument("--video", action="store_true", help="render walk.mp4 (offscreen)")
+    p.add_argument(
+        "--log-format", choices=("npz", "csv"), default="npz", help="format of the per-tick log"
+    )
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--out", type=Path, required=True, help="output directory")
+    p.epilog = (
+        "Exit status: 0 when the robot walked the whole schedule, 1 when it fell, 2 on bad input."
+    )
+    return p
+
+
+def run_walk_command(args) -> int:
+    """Run ``mpcwalk walk``; bad input raises an MpcwalkError (exit code 2 in ``main``)."""
+    from mpcwalk.sim import parse_push
+    from mpcwalk.walking.report import plot_walk_over_time, plot_walk_top_view
+    from mpcwalk.walking.runner import run_walk
+
+    velocity = (args.vx, args.vy, args.vyaw)
+    if args.path is not None and any(v is not None for v in velocity):
+        raise ConfigurationError(
+            "Give either a velocity command (--vx, --vy, --vyaw) or --path FILE.mdat, not both."
+        )
+    if args.duration is not None and args.steps is not None:
+        raise ConfigurationError("Give either --duration or --steps, not both.")
+    if args.path is None and args.duration is None and args.steps is None:
+        raise ConfigurationError(
+            "A walk from a velocity command needs --duration S (walking time) or --steps N."
+        )
+    if args.steps is not None and args.steps < 1:
+        raise ConfigurationError(f"--steps must be a positive number of steps, got {args.steps}.")
+    command = None
+    if args.path is None:
+        command = tuple(0.0 if v is None else v for v in velocity)
+        if all(v is None for v in velocity):
+            command = (0.1, 0.0, 0.0)
+    pushes = [parse_push(text) for text in args.push]
+    out: Path = args.out
+    out.mkdir(parents=True, exist_ok=True)
+    result = run_walk(
+        args.robot,
+        args.generator,
+        command=command,
+        path=args.path,
+        nb_steps=args.steps,
+        duration=args.duration,
+        step_duration=args.step_duration,
+        double_support_ratio=args.ds_ratio,
+        step_height=args.step_height,
+        control_period=args.control_period,
+        pushes=pushes,
+        video=out / "walk.mp4" if args.video else None,
+        progress=not args.no_progress,
+        feedback=not args.no_feedback,
+        stabilizer=_stabilizer(args),
+        generator_options=None if args.solver is None else {"solver": args.solver},
+        controller_options={"swing_profile": _swing_profile(args)},
+        arm_swing=args.arm_swing,
+        yaw_reference=bool(pushes),
+    )
+    written = [out / "metrics.json"]
+    (out / "metrics.json").write_text(json.dumps(result.metrics, indent=2) + "\n")
+    written.append(result.log.save(out / f"walk_log.{args.log_format}"))
+    m = result.metrics
+    what = f"v=({', '.join(f'{c:g}' for c in command)})" if command else str(args.path)
+    title = f"{result.robot}, {result.generator}: {what}, T={m['step_duration_s']:g} s"
+    if len(result.log):
+        for name, plot in (
+            ("top_view.png", plot_walk_top_view),
+            ("com_cop.png", plot_walk_over_time),
+        ):
+            figure = plot(result.schedule, result.log, title=title)
+            figure.savefig(out / name, dpi=120)
+            written.append(out / name)
+            import matplotlib.pyplot as plt
+
+            plt.close(figure)
+    if args.video:
+        written.append(out / "walk.mp4")
+    print(summary(m))
+    print("wrote " + ", ".join(str(path) for path in written))
+    return 1 if m["fell"] else 0
+
+
+def _swing_profile(args) -> str:
+    """``--swing-profile``, by default paper A's with paper A's stabilizer."""
+    if getattr(args, "swing_profile", None):
+        return args.swing_profile
+    return "ctraj" if getattr(args, "stabilizer", "none") == "ankle-imu" else "cosine"
+
+
+def _stabilizer(args):
+    """The stabilizer of ``--stabilizer`` and ``--reaim`` (None: neither); re-aiming is on
+    by default for path files."""
+    from mpcwalk.control.stabilizers import StabilizerChain, make_stabilizer
+
+    parts = []
+    reaim = getattr(args, "reaim", None)
+    if reaim is None:
+        reaim = getattr(args, "path", None) is not None
+    if reaim:
+        from mpcwalk.control.stabilizers.paper_a import PaperAStateMachine
+
+        parts.append(PaperAStateMachine())
+    stabilizer = make_stabilizer(getattr(args, "stabilizer", "none"))
+    if stabilizer is not None:
+        parts.append(stabilizer)
+    return StabilizerChain(parts) if parts else None
+
+
+def _format(value, scale: float = 1.0, unit: str = "") -> str:
+    return "n/a" if value is None else f"{value * scale:.2f}{unit}"
+
+
+def summary(metrics: dict) -> str:
+    """One line telling how a walk went."""
+    m = metrics
+    state = f"FELL at {m['fall_time_s']:.2f} s ({m['fall_reason']})" if m["fell"] else "no fall"
+    return (
+        f"{m['robot']} {m['generator']}: {state}; {m['steps_completed']}/{m['steps_planned']} "
+        f"steps, {m['distance_m']:.3f} m (planned {m['distance_planned_m']:.3f} m), yaw "
+        f"{m['yaw_change_deg']:.1f} deg, foot error "
+        f"{_format(m['foot_position_error_cm_mean'], unit=' cm')} mean, ZMP margin min "
+        f"{_format(m['zmp_margin_min_m'], 100.0, ' cm')}, real time "
+        f"x{_format(m['real_time_factor'])}"
+    )
+
+
+def add_robots_parser(sub) -> argparse.ArgumentParser:
+    """Add the ``robots`` sub-command to ``sub``."""
+    return sub.add_parser(
+        "robots",
+        help="list the robots that load on this machine",
+        description="List the robots whose description is installed, with "
+        "their size and walking defaults.",
+    )
+
+
+def run_robots_command(args) -> int:
+    """Run ``mpcwalk robots``: one line per robot that loads."""
+    from mpcwalk.robot.loading import load_robot, robot_names
+
+    for name in robot_names():
+        robot = load_robot(name, visual=False)
+        gait = robot.preset.gait
+        period = gait.get("step_duration")
+        print(
+            f"{name:14s} {len(robot.joint_names):2d} joints, {robot.total_mass:6.1f} kg, CoM "
+            f"height {robot.com_height:.3f} m, soles {robot.sole_size[0]:.2f} x "
+            f"{robot.sole_size[1]:.2f} m, step duration "
+            f"{'0.5 (default)' if period is None else f'{period:g}'} s  "
+            f"[{robot.description_path.name}]"
+        )
+    return 0
