@@ -6,6 +6,8 @@ Ribeiro's ZMP walking engine, the static Atlas gait of the DARPA VRC), all
 behind one pattern-generator protocol.
 """
 
+from typing import Any
+
 from mpcwalk.exceptions import (
     ConfigurationError,
     FootstepFileError,
@@ -53,35 +55,41 @@ from mpcwalk.models import LIPM, CartTable, SupportPolygon, foot_rectangle
 
 __version__ = "0.1.0"
 
-#: Imported on first use: the QP generators pull in qpsolvers and CasADi (~1 s).
+#: Imported on first use: the QP generators pull in qpsolvers and CasADi (~1 s); robots,
+#: simulation and the walk load Pinocchio and MuJoCo.
 _LAZY = {
     "MpcGenerator": "mpcwalk.generators.mpc",
     "StaticQPGenerator": "mpcwalk.generators.static_qp",
     "MpcParameters": "mpcwalk.qp",
     "WalkingQP": "mpcwalk.qp",
-    # robots, simulation and the walk load Pinocchio models and MuJoCo
-    "load_robot": "mpcwalk.robot.loading",
-    "robot_names": "mpcwalk.robot.loading",
-    "Robot": "mpcwalk.robot.loading",
+    "load_robot": "mpcwalk.robot",
+    "robot_names": "mpcwalk.robot",
+    "Robot": "mpcwalk.robot",
     "WholeBodyIK": "mpcwalk.ik",
     "IKTargets": "mpcwalk.ik",
     "Simulation": "mpcwalk.sim",
     "WalkingController": "mpcwalk.control.controller",
     "run_walk": "mpcwalk.walking.runner",
-    "WalkResult": "mpcwalk.walking.runner",
+    "WalkResult": "mpcwalk.walking.result",
+    "WalkMetrics": "mpcwalk.walking.metrics",
+    "WalkLog": "mpcwalk.walking.log",
     "PaperAStateMachine": "mpcwalk.control.stabilizers.paper_a",
     "make_stabilizer": "mpcwalk.control.stabilizers",
     "GyroStabilizer": "mpcwalk.control.stabilizers.gyro",
-    "ArmSwing": "mpcwalk.gait.arm_swing",
+    "ArmSwing": "mpcwalk.control.arm_swing",
 }
 
 
-def __getattr__(name):
+def __getattr__(name: str) -> Any:
     if name in _LAZY:
         import importlib
 
         return getattr(importlib.import_module(_LAZY[name]), name)
     raise AttributeError(f"module 'mpcwalk' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_LAZY})
 
 
 __all__ = [
@@ -127,6 +135,8 @@ __all__ = [
     "SwingFootTrajectory",
     "VelocityCommand",
     "VelocityPlanner",
+    "WalkLog",
+    "WalkMetrics",
     "WalkResult",
     "WalkingController",
     "WalkingQP",

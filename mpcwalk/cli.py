@@ -6,7 +6,35 @@ import json
 import sys
 from pathlib import Path
 
-from mpcwalk.exceptions import MpcwalkError
+from mpcwalk.exceptions import ConfigurationError, MpcwalkError
+
+_DESCRIPTION = (
+    "Optimization-based walking of humanoid robots: plan a walk on the LIPM (plan), list the "
+    "pattern generators (generators) and the robots (robots), simulate a robot walking in "
+    "MuJoCo (walk), run the benchmarks (bench). Exit status: 0 on success, 1 when a "
+    "simulated robot fell, 2 on bad input."
+)
+
+
+class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
+    """Shows an option's default in its help, unless it has none (None, a flag's False) or
+    the help already says it."""
+
+    def _get_help_string(self, action: argparse.Action) -> str | None:
+        if action.default is None or action.default is False or action.default == []:
+            return action.help
+        if "default:" in (action.help or "") or action.default is argparse.SUPPRESS:
+            return action.help
+        return super()._get_help_string(action)
+
+
+def _use_formatter(parser: argparse.ArgumentParser) -> None:
+    """Give ``parser`` and all its sub-command parsers the :class:`HelpFormatter`."""
+    parser.formatter_class = HelpFormatter
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for child in action.choices.values():
+                _use_formatter(child)
 
 
 def _add_plan_parser(sub) -> None:
@@ -18,12 +46,17 @@ def _add_plan_parser(sub) -> None:
         "plot and metrics.json into --out.",
     )
     p.add_argument(
-        "--generator", default="mpc", help="pattern generator (see `mpcwalk generators`)"
+        "--generator", default="mpc", help="pattern generator (list: mpcwalk generators)"
     )
     p.add_argument("--vx", type=float, default=0.1, help="forward velocity [m/s]")
     p.add_argument("--vy", type=float, default=0.0, help="lateral velocity [m/s]")
     p.add_argument("--vyaw", type=float, default=0.0, help="yaw rate [rad/s]")
-    p.add_argument("--steps", type=int, default=20, help="number of steps")
+    p.add_argument(
+        "--steps",
+        type=int,
+        default=20,
+        help="number of steps that follow the command (a closing step is added)",
+    )
     p.add_argument("--step-duration", type=float, default=0.5, help="step duration T [s]")
     p.add_argument(
         "--ds-ratio", type=float, default=0.2, help="double support ratio r_ds in [0, 1)"
@@ -33,7 +66,8 @@ def _add_plan_parser(sub) -> None:
     p.add_argument(
         "--solver",
         default=None,
-        help="QP solver of the QP generators (osqp-direct, casadi, or a qpsolvers name)",
+        help="QP solver of the QP generators (osqp-direct, casadi, or a qpsolvers name; "
+        "default: the generator's)",
     )
     p.add_argument("--out", type=Path, required=True, help="output directory")
 
@@ -42,9 +76,15 @@ def _run_plan(args) -> int:
     from mpcwalk.footsteps.footstep import StepTiming
     from mpcwalk.footsteps.velocity_planner import VelocityCommand
     from mpcwalk.models.lipm import LIPM
-    from mpcwalk.walking.plan_figures import plot_com_zmp, plot_top_view
+    from mpcwalk.walking.cli import format_length
+    from mpcwalk.walking.figures import plot_com_zmp, plot_top_view
     from mpcwalk.walking.planning import plan_walk
 
+    if args.steps < 1:
+        raise ConfigurationError(
+            f"--steps must be a positive number of steps, got {args.steps}; "
+            "e.g. --steps 10 plans 10 steps and the closing step."
+        )
     timing = StepTiming(step_duration=args.step_duration, double_support_ratio=args.ds_ratio)
     options = {} if args.solver is None else {"solver": args.solver}
     result = plan_walk(
@@ -59,7 +99,9 @@ def _run_plan(args) -> int:
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
     traj = result.rollout
-    title = f"{args.generator}: v=({args.vx}, {args.vy}, {args.vyaw}), {args.steps} steps"
+    m = result.metrics
+    steps = _steps_text(m["nb_steps"], m["closing_steps"])
+    title = f"{args.generator}: v=({args.vx}, {args.vy}, {args.vyaw}), {steps}"
     fig = plot_top_view(result.schedule, traj.times, traj.com, traj.zmp, title=title)
     fig.savefig(out / "top_view.png", dpi=120)
     fig = plot_com_zmp(
@@ -71,12 +113,11 @@ def _run_plan(args) -> int:
         title=title,
     )
     fig.savefig(out / "com_zmp.png", dpi=120)
-    (out / "metrics.json").write_text(json.dumps(result.metrics, indent=2) + "\n")
-    m = result.metrics
+    (out / "metrics.json").write_text(json.dumps(m, indent=2) + "\n")
     print(
-        f"{m['generator']}: {m['nb_steps']} steps over {m['duration_s']:.2f} s, "
-        f"ZMP margin min {m['zmp_margin_min_m'] * 100:.2f} cm, "
-        f"CoM margin min {m['com_margin_min_m'] * 100:.2f} cm, "
+        f"{m['generator']}: {steps} over {m['duration_s']:.2f} s, "
+        f"ZMP margin min {format_length(m['zmp_margin_min_m'])}, "
+        f"CoM margin min {format_length(m['com_margin_min_m'])}, "
         f"tick median {m['tick_us_median']:.1f} us"
     )
     if m["zmp_margin_min_m"] < 0.0:
@@ -87,6 +128,13 @@ def _run_plan(args) -> int:
         )
     print(f"wrote {out / 'top_view.png'}, {out / 'com_zmp.png'}, {out / 'metrics.json'}")
     return 0
+
+
+def _steps_text(nb_steps: int, closing_steps: int) -> str:
+    """The steps of a plan in words, e.g. "10 steps + closing step"."""
+    if not closing_steps:
+        return f"{nb_steps} steps"
+    return f"{nb_steps} steps + closing step"
 
 
 def _run_generators(args) -> int:
@@ -100,7 +148,10 @@ def _run_generators(args) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``mpcwalk`` argument parser."""
-    parser = argparse.ArgumentParser(prog="mpcwalk", description=__doc__)
+    from mpcwalk import __version__
+
+    parser = argparse.ArgumentParser(prog="mpcwalk", description=_DESCRIPTION)
+    parser.add_argument("--version", action="version", version=f"mpcwalk {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     _add_plan_parser(sub)
     sub.add_parser("generators", help="list the pattern generators")
@@ -110,6 +161,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_bench_parser(sub)
     add_walk_parser(sub)
     add_robots_parser(sub)
+    _use_formatter(parser)
     return parser
 
 

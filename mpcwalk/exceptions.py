@@ -4,7 +4,7 @@ Every error the library raises on purpose derives from :class:`MpcwalkError`.
 Messages say what was expected, what came, and how to fix it.
 """
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 
@@ -62,16 +62,43 @@ class FootstepFileError(MpcwalkError, ValueError):
 
 
 class SolverNotFound(MpcwalkError, ValueError):
-    """The requested QP solver is unknown or not installed."""
+    """The requested QP solver is unknown or not installed.
 
-    def __init__(self, solver: str, available: Sequence[str]) -> None:
+    Attributes:
+        solver: The name asked for.
+        available: Solvers available on this installation.
+        installable: Known solvers that are not installed -> how to install them.
+        install: How to install ``solver`` when it is known but not installed, else "".
+    """
+
+    def __init__(
+        self,
+        solver: str,
+        available: Sequence[str],
+        installable: Mapping[str, str] | None = None,
+        *,
+        install: str = "",
+    ) -> None:
         self.solver = solver
         self.available = list(available)
-        super().__init__(
-            f"QP solver '{solver}' is not available; the available solvers are "
-            f"{', '.join(self.available) or '(none)'}. Install it with "
-            f"`pip install qpsolvers[{solver}]` or pick one from that list."
-        )
+        self.installable = dict(installable or {})
+        self.install = install
+        names = ", ".join(self.available) or "(none)"
+        if install:
+            message = (
+                f"Solver '{solver}' is not installed; install it with `{install}`, or choose "
+                f"one of the available solvers: {names}."
+            )
+        else:
+            message = f"Unknown solver '{solver}'; available: {names}"
+            if self.installable:
+                groups: dict[str, list[str]] = {}  # install command, <name> for the name
+                for name, how in self.installable.items():
+                    groups.setdefault(how.replace(name, "<name>"), []).append(name)
+                hints = ", ".join(f"{', '.join(n)} (`{how}`)" for how, n in groups.items())
+                message += f"; installable: {hints}"
+            message += "."
+        super().__init__(message)
 
 
 class GeneratorNotFound(MpcwalkError, ValueError):
@@ -107,3 +134,41 @@ class NoSolutionFound(MpcwalkError):
 
 class NotReset(MpcwalkError, RuntimeError):
     """A generator was stepped before :meth:`reset` gave it a schedule."""
+
+
+class RobotNotFound(MpcwalkError, ValueError):
+    """The requested robot has no preset, or its description is not installed."""
+
+    def __init__(self, name: str, available: Sequence[str], reason: str = "") -> None:
+        self.name = name
+        self.available = list(available)
+        why = f" ({reason})" if reason else ""
+        super().__init__(
+            f"Unknown robot '{name}'{why}; choose one of {', '.join(self.available) or '(none)'}."
+        )
+
+
+class FrameNotFound(MpcwalkError, LookupError):
+    """A frame (Pinocchio frame, MuJoCo site or URDF link) does not exist in a robot."""
+
+    def __init__(self, frame: str, available: Sequence[str], robot: str = "") -> None:
+        self.frame = frame
+        self.available = sorted(available)
+        where = f" in robot '{robot}'" if robot else ""
+        super().__init__(
+            f"Frame '{frame}' not found{where}; the frames that exist are: "
+            f"{', '.join(self.available)}."
+        )
+
+
+class PackageDataNotFound(MpcwalkError, FileNotFoundError):
+    """The data shipped with mpcwalk (robot descriptions, presets, experiment configs) is
+    not installed as a folder beside the package."""
+
+    def __init__(self, package: str, reason: str) -> None:
+        self.package = package
+        super().__init__(
+            f"mpcwalk's data package '{package}' was expected installed with mpcwalk, but "
+            f"{reason}; install mpcwalk with pip (`pip install -e .` in a checkout of the "
+            "repository, or from a wheel) instead of putting its source on sys.path."
+        )

@@ -1,11 +1,15 @@
-"""The command line: `mpcwalk plan`, `mpcwalk generators`, `mpcwalk bench ticks`."""
+"""The command line: `mpcwalk plan`, `mpcwalk generators`, `mpcwalk bench ticks`, and what
+a new user sees in `--help`."""
 
+import argparse
 import json
 
 import pytest
 
+import mpcwalk
 from mpcwalk.bench.ticks import format_table, run_tick_benchmark
-from mpcwalk.cli import main
+from mpcwalk.cli import build_parser, main
+from mpcwalk.walking.cli import format_length
 
 
 def test_plan_writes_plots_and_metrics(tmp_path, capsys):
@@ -34,10 +38,13 @@ def test_plan_writes_plots_and_metrics(tmp_path, capsys):
     for key in ("generator", "nb_steps", "zmp_margin_min_m", "com_margin_min_m", "tick_us_median"):
         assert key in metrics
     assert metrics["generator"] == "mpc"
-    assert metrics["nb_steps"] == 7  # 6 steps and the closing one
+    # 6 steps and the closing one, named apart
+    assert (metrics["nb_steps"], metrics["closing_steps"], metrics["steps_planned"]) == (6, 1, 7)
     assert 0.0 < metrics["zmp_margin_min_m"] < 0.03
     assert metrics["tick_us_median"] > 0.0
-    assert "ZMP margin min" in capsys.readouterr().out
+    out_text = capsys.readouterr().out
+    assert "ZMP margin min" in out_text  # the planned ZMP: a ZMP, not a measured CoP
+    assert "mpc: 6 steps + closing step over 5.50 s" in out_text  # 3.5 s + 2 x 1 s standing
 
 
 def test_plan_of_static_gait_at_paper_m_speed_warns(tmp_path, capsys):
@@ -56,7 +63,7 @@ def test_plan_of_static_gait_at_paper_m_speed_warns(tmp_path, capsys):
         (["--step-duration", "-1"], r"step_duration must be a positive number"),
         (
             ["--generator", "mpc", "--solver", "gurobo"],
-            r"'gurobo' is not available; the available solvers are",
+            r"Unknown solver 'gurobo'; available: ",
         ),
         (["--generator", "zmp-magic"], r"Unknown pattern generator 'zmp-magic'"),
     ],
@@ -77,10 +84,13 @@ def test_generators_lists_every_name(capsys):
         assert name in out
 
 
+@pytest.mark.slow
 def test_tick_benchmark_reduced_run():
     results = run_tick_benchmark(nb_steps=2, solvers=["daqp"], include_peer=True, progress=False)
     labels = [r.label for r in results]
-    assert labels[0] == "analytic" and results[0].ratio_to_analytic == 1.0
+    assert labels[0] == "analytic"
+    for r in results:  # each median against the closed form's of the same run
+        assert r.ratio_to_analytic == pytest.approx(r.median_us / results[0].median_us)
     assert {
         "mpc osqp-direct",
         "mpc casadi",
@@ -141,3 +151,53 @@ def test_bench_commands_write_their_markdown_and_json(tmp_path, capsys):
         assert rows and text.count("\n| ") >= len(rows)  # a table row per result
     out = capsys.readouterr().out
     assert "wrote " in out and "ticks.json" in out and "ik.json" in out
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        main(["--version"])
+    assert exit_info.value.code == 0
+    assert capsys.readouterr().out.strip() == f"mpcwalk {mpcwalk.__version__}"
+
+
+def test_plan_refuses_zero_steps(tmp_path, capsys):
+    assert main(["plan", "--steps", "0", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("mpcwalk: error: --steps must be a positive number of steps, got 0")
+    assert not (tmp_path / "metrics.json").exists()
+
+
+def _parsers(parser, path=("mpcwalk",)):
+    """Every (command path, parser) of the command line."""
+    yield path, parser
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for name, child in action.choices.items():
+                yield from _parsers(child, (*path, name))
+
+
+def test_help_shows_defaults_and_no_markup(monkeypatch):
+    monkeypatch.setenv("COLUMNS", "200")  # no line breaks inside a default
+    parsers = dict(_parsers(build_parser()))
+    assert {("mpcwalk", "walk"), ("mpcwalk", "bench", "loop")} <= set(parsers)
+    for path, parser in parsers.items():
+        text = parser.format_help()
+        assert "`" not in text, (path, text)  # no reST or markdown backticks
+        assert "default: None" not in text, path
+    walk = " ".join(parsers["mpcwalk", "walk"].format_help().split())
+    for default in ("(default: bioloid-like)", "(default: mpc)", "(default: 0.01)"):
+        assert default in walk
+    assert "(default: mpc)" in parsers["mpcwalk", "plan"].format_help()
+
+
+@pytest.mark.parametrize("command", ["ticks", "ik", "loop"])
+def test_every_bench_option_has_help(command):
+    parser = dict(_parsers(build_parser()))["mpcwalk", "bench", command]
+    for action in parser._actions:
+        assert action.help, (command, action.option_strings)
+
+
+def test_lengths_print_with_their_digits():
+    assert format_length(4e-6) == "0.004 mm"  # not "0.00 cm"
+    assert format_length(-0.0123) == "-12.3 mm"
+    assert format_length(None) == "n/a"

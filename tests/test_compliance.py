@@ -1,18 +1,21 @@
 """Servo feed-forward: compliant position servos hold a one-foot stance in MuJoCo."""
 
+import dataclasses
+
 import numpy as np
 import pytest
+from conftest import get_robot
 
 from mpcwalk.control.servo_feedforward import ServoFeedforward
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.ik import IKTargets, WholeBodyIK
-from mpcwalk.robot.loading import load_robot
+from mpcwalk.robot import ServoGains
 from mpcwalk.sim import Simulation
 
 
 @pytest.fixture(scope="module")
 def robot():
-    return load_robot("bioloid-like", visual=False)
+    return get_robot("bioloid-like")
 
 
 def one_foot_stance(robot):
@@ -73,8 +76,18 @@ def test_servo_parameters_come_from_the_mujoco_actuators(robot):
     assert abs(knee) == pytest.approx(np.abs(torques).max())
 
 
-def test_robot_without_position_actuators_is_refused():
-    robot = load_robot("bioloid-like", visual=False)  # its own copy: its model is modified
-    robot.mj_model.actuator_gainprm[:] = 0.0
+def test_servo_gains_are_read_from_mujoco_once_at_load(robot):
+    gains = robot.servo_gains
+    assert gains.stiffness.shape == gains.damping.shape == (len(robot.joint_names),)
+    np.testing.assert_array_equal(
+        np.sort(gains.stiffness), np.sort(robot.mj_model.actuator_gainprm[:, 0])
+    )
+    with pytest.raises(ValueError):  # read-only: the robot's servos are what MuJoCo has
+        gains.stiffness[0] = 1.0
+
+
+def test_robot_without_position_actuators_is_refused(robot):
+    n = len(robot.joint_names)
+    unactuated = ServoGains(np.full(n, np.inf), np.zeros(n), np.full(n, np.inf))
     with pytest.raises(ConfigurationError, match="no position actuator"):
-        ServoFeedforward(robot)
+        ServoFeedforward(dataclasses.replace(robot, servo_gains=unactuated))

@@ -3,10 +3,13 @@
 import numpy as np
 import pinocchio as pin
 import pytest
+from conftest import get_robot, walk_outputs
+from stabilizer_inputs import measurements
 
 from mpcwalk.control.controller import ControlOutput, WalkingController
 from mpcwalk.control.dcm_feedback import DcmFeedback, project_into_polygon, shrink_polygon
 from mpcwalk.control.servo_feedforward import ServoFeedforward
+from mpcwalk.control.stabilizers.base import Stabilizer, StabilizerInput
 from mpcwalk.exceptions import ConfigurationError, NoSolutionFound, NotReset
 from mpcwalk.footsteps import FootGeometry, Side, StepTiming
 from mpcwalk.gait.contact_schedule import ContactSchedule
@@ -15,16 +18,7 @@ from mpcwalk.generators.pattern_generator import PatternGenerator
 from mpcwalk.ik import IKTargets, WholeBodyIK
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.models.support_polygon import SupportPolygon
-from mpcwalk.robot.loading import load_robot
 from mpcwalk.walking.runner import plan_walk_footsteps
-
-_ROBOTS = {}
-
-
-def get_robot(name: str = "bioloid-like"):
-    if name not in _ROBOTS:
-        _ROBOTS[name] = load_robot(name, visual=False)
-    return _ROBOTS[name]
 
 
 def make_schedule(robot, command=(0.1, 0.0, 0.0), nb_steps=4, step_duration=0.5):
@@ -34,10 +28,7 @@ def make_schedule(robot, command=(0.1, 0.0, 0.0), nb_steps=4, step_duration=0.5)
 
 
 def walk_kinematically(controller, measurement=None):
-    outputs = [controller.reset()]
-    while not controller.done:
-        outputs.append(controller.step(measurement))
-    return outputs
+    return walk_outputs(controller, measured=None if measurement is None else lambda _: measurement)
 
 
 @pytest.mark.parametrize("generator", ["analytic", "mpc"])
@@ -243,7 +234,7 @@ def test_bad_inputs_raise_named_errors():
     with pytest.raises(ConfigurationError, match="size nq"):
         controller.reset(np.zeros(3))
     controller.reset()
-    with pytest.raises(ConfigurationError, match="SimState, Measurements or ComState"):
+    with pytest.raises(ConfigurationError, match=r"Measurements \(a simulation state's"):
         controller.step(measurement=[0.0, 0.0])
 
 
@@ -253,28 +244,57 @@ def test_measured_com_is_anchored_to_the_planned_feet():
     feedback = DcmFeedback(schedule, omega=7.0)
     left, right = schedule.plan.initial_left, schedule.plan.initial_right
 
-    class Measurement:  # the two fields of a SimState that anchoring reads
-        def __init__(self, shift, turn):
-            c, s = np.cos(turn), np.sin(turn)
-            rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-            self.sole_positions = np.array(
-                [rotation @ left.position + shift, rotation @ right.position + shift]
-            )
-            self.sole_yaws = np.array([turn, turn])
+    def measured_soles(shift, turn):
+        c, s = np.cos(turn), np.sin(turn)
+        rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        positions = np.array([rotation @ left.position + shift, rotation @ right.position + shift])
+        return positions, np.array([turn, turn])
 
     planned_com = np.array([0.01, 0.003])
     for shift, turn in (([0.02, -0.01, 0.0], 0.0), ([0.0, 0.0, 0.0], 0.1)):
-        measurement = Measurement(np.array(shift), turn)
+        positions, yaws = measured_soles(np.array(shift), turn)
         c, s = np.cos(turn), np.sin(turn)
         measured = ComState(
             np.array([[c, -s], [s, c]]) @ planned_com + shift[:2],
             np.array([[c, -s], [s, c]]) @ [0.1, 0.0],
         )
-        anchored = feedback.anchor(measured, measurement, 0.2, (0.5, 0.5))
+        anchored = feedback.anchor(measured, positions, yaws, 0.2, (0.5, 0.5))
         np.testing.assert_allclose(anchored.position, planned_com, atol=1e-12)
         np.testing.assert_allclose(anchored.velocity, [0.1, 0.0], atol=1e-12)
-    # without sole poses (a ComState) the state is left as measured
-    assert feedback.anchor(measured, measured, 0.2, (0.5, 0.5)) is measured
+
+
+def test_stabilizer_sees_a_typed_input_with_the_references_of_the_measurement_time():
+    robot = get_robot()
+    seen = []
+
+    class Spy(Stabilizer):
+        def reset(self, inputs):
+            seen.append(("reset", inputs))
+
+        def adjust_targets(self, inputs):
+            seen.append(("targets", inputs))
+            return inputs.targets
+
+        def adjust_joint_targets(self, inputs, joint_targets):
+            seen.append(("joints", inputs))
+            return joint_targets
+
+    controller = WalkingController.for_robot(
+        robot, "analytic", make_schedule(robot, nb_steps=1), stabilizer=Spy()
+    )
+    first = controller.reset()
+    kind, inputs = seen[0]
+    assert kind == "reset" and inputs.measurements is None and inputs.time == first.time
+    sensors = measurements(com=robot.compute_com(robot.q0), nb_joints=len(robot.joint_names))
+    second = controller.step(sensors)
+    (_, before), (_, after) = seen[1:]
+    assert isinstance(before, StabilizerInput) and before.measurements is sensors
+    assert before.time == after.time == second.time
+    np.testing.assert_array_equal(before.q_ref, first.q_ref)  # the IK's starting point
+    np.testing.assert_array_equal(after.q_ref, second.q_ref)  # this tick's reference
+    np.testing.assert_array_equal(after.com_reference, first.com_target)
+    np.testing.assert_array_equal(after.zmp_reference, first.zmp_command)
+    np.testing.assert_array_equal(after.targets.com_xy, second.com_target[:2])
 
 
 def test_project_into_polygon():
@@ -303,15 +323,16 @@ def test_control_output_is_frozen():
 def test_generators_take_their_robot_options_from_the_preset():
     from mpcwalk.footsteps import LegLimits
     from mpcwalk.generators import generator_class
-    from mpcwalk.robot.loading import load_robot
 
-    g1 = load_robot("g1", visual=False)  # [gait] mpc_sampling_period 0.05, mpc_horizon 40
-    assert generator_class("mpc").robot_options(g1) == {"sampling_period": 0.05, "horizon": 40}
-    steps = generator_class("mpc-steps").robot_options(g1)
+    g1 = get_robot("g1")  # [gait] mpc_sampling_period 0.05, mpc_horizon 40
+    traits = {"gait": g1.gait, "leg_limits": g1.leg_limits}
+    mpc = generator_class("mpc").robot_options(**traits)
+    assert mpc == {"sampling_period": 0.05, "horizon": 40}
+    steps = generator_class("mpc-steps").robot_options(**traits)
     assert steps["horizon"] == 40 and "jerk_weight" not in steps
-    assert isinstance(steps["reachability"], LegLimits)
-    assert generator_class("static-qp").robot_options(g1) == {}
-    assert generator_class("analytic").robot_options(g1) == {}
+    assert isinstance(steps["reachability"], LegLimits) and steps["reachability"] == g1.leg_limits
+    assert generator_class("static-qp").robot_options(**traits) == {}
+    assert generator_class("analytic").robot_options(**traits) == {}
     schedule = make_schedule(g1, nb_steps=1)
     controller = WalkingController.for_robot(g1, "mpc", schedule, generator_options={"horizon": 20})
     assert controller.generator.parameters.horizon == 20  # the caller's option wins

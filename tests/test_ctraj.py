@@ -7,7 +7,7 @@ import pinocchio as pin
 import pytest
 
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.gait.ctraj import QUINTIC_PEAK_RATE, CartesianTrajectory, ctraj
+from mpcwalk.gait.ctraj import QUINTIC_PEAK_RATE, CartesianTrajectory, ctraj, exp3, log3
 
 
 def pose(axis_angle, position):
@@ -61,6 +61,47 @@ def test_midpoint_rotation_is_half_way_on_the_geodesic():
     law = 10 * s**3 - 15 * s**4 + 6 * s**5
     angles = [rotation_angle(R0.T @ R) for R in traj.rotations]
     np.testing.assert_allclose(angles, law * rotation_angle(R0.T @ R1), atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    "start, end",
+    [
+        (T0, T1),
+        (pose([0.0, 0.0, 3.0], [0.0, 0.0, 0.0]), pose([0.0, 0.0, -3.0], [0.1, 0.0, 0.0])),
+        (pose([0.3, -2.0, 1.0], [1.0, 2.0, 3.0]), pose([-1.0, 2.5, 0.2], [0.0, 0.0, 0.0])),
+    ],
+)
+def test_same_poses_as_pinocchio_interpolation(start, end):
+    """The SO(3) log/exp of the gait layer (no Pinocchio there) give Pinocchio's geodesic:
+    ``R0 exp3(r log3(R0^T R1))`` and the straight line, sample by sample."""
+    traj = ctraj(start, end, 17)
+    R0, axis_angle = start[:3, :3], pin.log3(start[:3, :3].T @ end[:3, :3])
+    for T, r in zip(traj.poses, traj.path_fraction):
+        np.testing.assert_allclose(T[:3, :3], R0 @ pin.exp3(r * axis_angle), atol=1e-12)
+        position = start[:3, 3] + r * (end[:3, 3] - start[:3, 3])
+        np.testing.assert_allclose(T[:3, 3], position, atol=1e-15)
+
+
+def test_so3_log_and_exp_agree_with_pinocchio():
+    """The numpy SO(3) maps of ctraj against Pinocchio's, at every angle up to pi and near
+    zero (series)."""
+    rng = np.random.default_rng(7)
+    vectors = list(rng.normal(0.0, 1.0, (200, 3)))
+    vectors += [np.array([0.0, 0.0, np.pi]), np.array([1e-7, 0.0, -2e-8]), np.zeros(3)]
+    for w in vectors:
+        angle = float(np.linalg.norm(w))
+        if angle > np.pi:
+            w = w * (np.pi - 1e-3) / angle
+        R = pin.exp3(w)
+        np.testing.assert_allclose(exp3(w), R, atol=1e-15)
+        if abs(np.linalg.norm(w) - np.pi) > 1e-9:  # at pi, w and -w are the same rotation
+            np.testing.assert_allclose(log3(R), pin.log3(R), atol=1e-10)
+    np.testing.assert_allclose(
+        exp3(np.array([[0.0, 0.0, 0.5], [0.2, 0.0, 0.0]]))[1],
+        pin.exp3(np.array([0.2, 0.0, 0.0])),
+        atol=1e-15,
+    )
+    np.testing.assert_allclose(np.abs(log3(pin.exp3(np.array([0.0, 0.0, np.pi])))), [0, 0, np.pi])
 
 
 def test_large_rotation_takes_the_short_way():

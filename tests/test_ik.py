@@ -3,8 +3,9 @@
 import numpy as np
 import pinocchio as pin
 import pytest
+from conftest import get_robot
 
-from mpcwalk.exceptions import ConfigurationError, SolverNotFound
+from mpcwalk.exceptions import ConfigurationError, FrameNotFound, SolverNotFound
 from mpcwalk.ik import (
     ComTask,
     FrameTask,
@@ -13,16 +14,8 @@ from mpcwalk.ik import (
     WholeBodyIK,
     update_kinematics,
 )
-from mpcwalk.robot.loading import FrameNotFound, load_robot
 
 ROBOTS = ("bioloid-like", "atlas-like", "g1")
-_CACHE = {}
-
-
-def get_robot(name):
-    if name not in _CACHE:
-        _CACHE[name] = load_robot(name, visual=False)
-    return _CACHE[name]
 
 
 def perturbed(robot, rng, scale=0.2):

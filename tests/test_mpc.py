@@ -5,12 +5,14 @@ import functools
 import numpy as np
 import pytest
 import qpsolvers
+from conftest import walk_outputs
 from plans import velocity_schedule as arc_schedule
 
 from mpcwalk.exceptions import ConfigurationError, NoSolutionFound, SolverNotFound
 from mpcwalk.gait.support_margins import support_margins
-from mpcwalk.generators import ComState, make_generator
+from mpcwalk.generators import make_generator
 from mpcwalk.generators.mpc import MpcGenerator
+from mpcwalk.models.com_state import ComState
 
 COMMANDS = {  # (vx [m/s], vy [m/s], yaw rate [rad/s]) in the torso frame
     "straight": (0.1, 0.0, 0.0),
@@ -26,10 +28,7 @@ def schedule_of(name, nb_steps=20):
 
 def walk(generator, schedule, measured=None):
     """Outputs of a whole walk; ``measured(out)`` gives the next measurement."""
-    outs = [generator.reset(schedule)]
-    while not generator.done:
-        outs.append(generator.step(None if measured is None else measured(outs[-1])))
-    return outs
+    return walk_outputs(generator, schedule, measured=measured)
 
 
 @functools.cache
@@ -196,7 +195,7 @@ def test_unconstrained_configuration_for_the_preview_comparison():
 
 
 def test_configuration_errors_are_named():
-    with pytest.raises(SolverNotFound, match="'gurobo' is not available.*osqp-direct"):
+    with pytest.raises(SolverNotFound, match="Unknown solver 'gurobo'; available: osqp-direct"):
         MpcGenerator(solver="gurobo")
     with pytest.raises(ConfigurationError, match="quadprog.*formulation='dense'"):
         MpcGenerator(solver="quadprog", formulation="sparse")

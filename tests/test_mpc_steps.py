@@ -18,10 +18,11 @@ from mpcwalk.footsteps import FootGeometry, Footstep, FootstepPlan, LegLimits, R
 from mpcwalk.footsteps.footstep import wrap_angle
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.support_margins import support_margins
-from mpcwalk.generators import ComState, generator_names, make_generator, rollout
+from mpcwalk.generators import generator_names, make_generator, rollout
 from mpcwalk.generators.mpc import MpcGenerator
 from mpcwalk.generators.mpc_steps import FootstepMpcGenerator
 from mpcwalk.models.cart_table import CartTable
+from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.models.support_polygon import SupportPolygon, foot_rectangle
 from mpcwalk.qp.footstep_parameters import blended_rectangles
@@ -213,6 +214,7 @@ def local_step(schedule, k):
     return np.append(support.to_local(step.xy), wrap_angle(step.yaw - support.yaw))
 
 
+@pytest.mark.slow
 def test_random_pushes_keep_every_footstep_reachable(record_property):
     rng = np.random.default_rng(7)
     schedule = straight(6)
@@ -393,20 +395,25 @@ def test_a_reported_dcm_error_moves_the_next_landing_by_its_growth():
         # [m], DCM 1 cm to the right of the reference, the side of the swinging right foot
         # (to the left it could not go: the feet separation bounds it)
         error = np.array([0.0, -0.02])  # beyond the 5 mm deadband
-        gen.observe_dcm_error(error)
         k = 2  # the step swinging at PUSH_TIME
-        growth = np.exp(gen.lipm.omega * (gen._landing[k] - gen.time))
+        landing = gen._slots.landing[k]
+        growth = np.exp(gen.lipm.omega * (landing - gen.time))
         beyond = error * (1.0 - gen.dcm_deadband / 0.02)  # the deadband is left out
-        assert np.allclose(gen._capture_offset(gen.time, gen._landing[k]), gain * growth * beyond)
-        gen.observe_dcm_error(0.2 * error)  # within the deadband: no offset
-        assert np.allclose(gen._capture_offset(gen.time, gen._landing[k]), 0.0)
+        gen._dcm_error = error  # what step(dcm_error=error) gives the tick
+        assert np.allclose(gen._capture_offset(gen.time, landing), gain * growth * beyond)
+        gen._dcm_error = 0.2 * error  # within the deadband: no offset
+        assert np.allclose(gen._capture_offset(gen.time, landing), 0.0)
         for _ in range(5):
-            gen.observe_dcm_error(error)
-            gen.step()
+            gen.step(dcm_error=error)
+            np.testing.assert_array_equal(gen.dcm_error, error)
         moves[gain] = deviations(gen.schedule, schedule)[k]
     assert np.allclose(moves[0.0], 0.0, atol=1e-3)  # undisturbed: on the plan
     assert moves[1.0][1] < -0.003  # to the right, as the DCM error
     assert abs(moves[1.0][0]) < 0.002
+    gen.step()  # no DCM error given: none this tick
+    np.testing.assert_array_equal(gen.dcm_error, np.zeros(2))
+    with pytest.raises(ConfigurationError, match="dcm_error must be 2 finite numbers"):
+        gen.step(dcm_error=[np.nan, 0.0])
 
 
 def test_mujoco_push_felling_the_closed_form_gait_is_recovered_by_the_adaptive_mpc():

@@ -4,8 +4,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import get_robot
+from stabilizer_inputs import foot, measurements, stabilizer_input
 
-from mpcwalk.control.stabilizers import make_stabilizer
+from mpcwalk.control.stabilizers import Stabilizer, StabilizerChain, make_stabilizer
 from mpcwalk.control.stabilizers.ankle_imu import AnkleImuStabilizer
 from mpcwalk.control.stabilizers.paper_a import GaitState, PaperAStateMachine
 from mpcwalk.exceptions import ConfigurationError, FootstepFileError, InfeasibleStep
@@ -22,6 +24,7 @@ from mpcwalk.footsteps.mdat import parse_mdat, plan_from_path
 from mpcwalk.footsteps.path_follower import PathFollower
 from mpcwalk.footsteps.reachability import ATLAS_REACHABILITY
 from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.gait.swing_foot import FeetState
 
 ROOT = Path(__file__).resolve().parent.parent
 STRAIGHT = ROOT / "experiments" / "paper_a" / "straight.mdat"
@@ -96,6 +99,30 @@ def test_reaim_from_measured_support_corrects_drift():
     turned = planned_support.moved(yaw=0.05)
     offset = machine.aim_step(0, turned)
     assert offset[2] == pytest.approx(-0.05, abs=1e-12)
+
+
+def test_reaiming_stabilizer_works_from_a_hand_built_input():
+    """No controller: the state machine reads the measured support sole of a typed input and
+    moves the swing foot's and the CoM's targets by the landing offset."""
+    robot, schedule = get_robot("atlas-like"), _schedule(nb_steps=2)
+    machine = PaperAStateMachine(yaw_source="sole")
+    chain = StabilizerChain([machine, Stabilizer()])
+    t = schedule.walk_start + 0.3  # step 0: the right foot swings, the left one supports
+    drift = np.array([0.03, -0.01, 0.0])
+    support = schedule.plan.support_foot(0).position + drift
+    sensors = measurements(sole_positions=(support, schedule.plan.initial_right.position))
+    inputs = stabilizer_input(robot, schedule, t=t, sensors=sensors)
+    chain.reset(inputs)
+    assert machine.schedule is schedule
+    targets = chain.adjust_targets(inputs)
+    assert machine.state is GaitState.LIFT_RIGHT
+    assert machine.offsets[Side.RIGHT] == pytest.approx([-0.03, 0.01, 0.0], abs=1e-12)
+    assert machine.landings[0].xy == pytest.approx(schedule.plan.steps[0].xy)
+    before = inputs.targets
+    np.testing.assert_array_equal(targets.feet.left.position, before.feet.left.position)
+    moved = targets.feet.right.position[:2] - before.feet.right.position[:2]
+    assert np.linalg.norm(moved) > 0.0  # part of the way to the re-aimed landing
+    np.testing.assert_allclose(targets.com_xy - before.com_xy, 0.5 * moved, atol=1e-15)
 
 
 def test_clamping_carries_the_remainder():
@@ -186,7 +213,7 @@ def test_paper_a_gait_walks_with_ankle_imu():
     )
     result = walk_path(spec, STRAIGHT, nb_steps=3)
     assert not result.fall.fell
-    assert result.metrics["steps_completed"] == 3
+    assert result.metrics.steps_completed == 3
     # Faster (3 s per step) the ankle strategy and IMU correction make the difference over
     # four steps (on the whole path it still falls, at step 7, and at step 2 without them).
     fast = dict(double_support_ratio=0.5, swing_profile="ctraj")
@@ -195,8 +222,8 @@ def test_paper_a_gait_walks_with_ankle_imu():
     )
     without = walk_path(ControllerSpec("b", "static", 3.0, **fast), STRAIGHT, nb_steps=4)
     assert not with_ankle.fall.fell and without.fall.fell
-    assert result.metrics["foot_position_error_cm_max"] < PAPER_A_ROW["position_error_max_cm"]
-    assert result.metrics["stabilizer"] == "paper-a+ankle-imu"
+    assert result.metrics.foot_position_error_cm_max < PAPER_A_ROW["position_error_max_cm"]
+    assert result.config.stabilizer == "paper-a+ankle-imu"
 
 
 def test_walk_cli_builds_paper_a_stabilizer():
@@ -237,22 +264,6 @@ def test_walk_cli_builds_paper_a_stabilizer():
         parser.parse_args(["walk", "--stabilizer", "gyros", "--out", "unused"])
 
 
-class _StubController:
-    """What the ankle-imu stabilizer reads from a controller."""
-
-    def __init__(self, names, com_target):
-        from types import SimpleNamespace
-
-        self.robot = SimpleNamespace(joint_names=names, name="stub")
-        self.control_period = 0.01
-        self.q_ref = np.array([0, 0, 1, 0, 0, 0, 1.0])  # upright base (x, y, z, w)
-        self.last_output = SimpleNamespace(zmp_command=np.zeros(2), com_target=com_target)
-
-    @staticmethod
-    def support_weights(zmp, feet):
-        return 1.0, 0.0
-
-
 @pytest.mark.parametrize(
     "com_offset, joint, sign",
     [((0.05, 0.0), "left_ankle_pitch", 1.0), ((0.0, 0.05), "left_ankle_roll", -1.0)],
@@ -261,30 +272,24 @@ def test_ankle_strategy_turns_the_body_back_over_the_foot(com_offset, joint, sig
     """CoM 5 cm ahead of (left of) the reference over a left support foot: the ankle pitch
     (roll) correction is +kp (-kp) times the 0.05 rad angle (plus the first integral step):
     a joint angle q turns the body above the planted foot by -q, back over the foot."""
-    from types import SimpleNamespace
-
-    from mpcwalk.gait.swing_foot import FeetState, FootState
-
-    names = ("left_ankle_pitch", "left_ankle_roll", "right_ankle_pitch", "right_ankle_roll")
-    controller = _StubController(names, np.array([0.0, 0.1, 1.0]))
+    robot = get_robot("atlas-like")
+    names = robot.joint_names
     stabilizer = AnkleImuStabilizer(kp=0.5, ki=0.2, kd=0.0, imu_gain=0.0)
-    stabilizer.reset(controller)
-    zero = np.zeros(3)
-    feet = FeetState(
-        0.0,
-        0,
-        FootState(np.array([0.0, 0.1, 0.0]), 0.0, zero, 0.0, True),
-        FootState(np.array([0.0, -0.1, 0.05]), 0.0, zero, 0.0, False),
+    feet = FeetState(0.0, 0, foot([0.0, 0.1, 0.0]), foot([0.0, -0.1, 0.05], in_contact=False))
+    sensors = measurements(
+        com=(com_offset[0], 0.1 + com_offset[1], 1.0),
+        sole_positions=((0.0, 0.1, 0.0), (0.0, -0.1, 0.05)),
+        nb_joints=len(names),
     )
-    imu = SimpleNamespace(roll=0.0, pitch=0.0)
-    measurement = SimpleNamespace(
-        sole_positions=np.array([[0.0, 0.1, 0.0], [0.0, -0.1, 0.05]]),
-        sole_rotations=np.array([np.eye(3), np.eye(3)]),
-        measurements=SimpleNamespace(
-            imu=imu, com=np.array([com_offset[0], 0.1 + com_offset[1], 1.0])
-        ),
+    inputs = stabilizer_input(
+        robot, _schedule(), t=0.01, feet=feet, com_reference=(0.0, 0.1, 1.0), sensors=sensors
     )
-    out = stabilizer.adjust_joint_targets(controller, 0.01, np.zeros(4), feet, measurement)
+    stabilizer.reset(inputs)
+    assert inputs.support_weights == (1.0, 0.0)  # all on the left foot
+    targets = np.zeros(len(names))
+    out = stabilizer.adjust_joint_targets(inputs, targets)
     expected = sign * 0.05 * (0.5 + 0.2 * 0.01)
     assert out[names.index(joint)] == pytest.approx(expected, rel=1e-9)
-    assert out[2] == 0.0 and out[3] == 0.0  # the swing foot is left alone
+    changed = {names[i] for i in np.flatnonzero(out)}
+    assert changed <= {"left_ankle_pitch", "left_ankle_roll"}  # the swing foot is left alone
+    assert np.all(targets == 0.0)  # input untouched

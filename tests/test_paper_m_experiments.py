@@ -22,7 +22,7 @@ from mpcwalk.experiments.paper_m import (
     turning_summary,
     walk_task,
 )
-from mpcwalk.experiments.paper_m_report import format_readme, format_table, goal_checks, table_rows
+from mpcwalk.experiments.paper_m_table import format_readme, format_table, goal_checks, table_rows
 from mpcwalk.experiments.parallel_walks import WorkerProcessDied, run_tasks
 from mpcwalk.experiments.push_sweep import (
     CaseResult,
@@ -35,7 +35,7 @@ from mpcwalk.experiments.push_sweep import (
 )
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.sim import ExternalForce
-from mpcwalk.walking.report import yaw_deviation_deg
+from mpcwalk.walking.metrics import yaw_deviation_deg
 
 ROOT = Path(__file__).resolve().parent.parent
 MASS, HEIGHT = 2.02, 0.23
@@ -224,7 +224,10 @@ def test_turning_summary_on_an_ideal_yaw():
     yaw = config.command[2] * np.clip(t - schedule.walk_start, 0.0, None)
     log = _synthetic(t, (yaw + np.pi) % (2 * np.pi) - np.pi)
     result = SimpleNamespace(
-        schedule=schedule, log=log, fall=SimpleNamespace(fell=False), metrics={"fall_time_s": None}
+        schedule=schedule,
+        log=log,
+        fall=SimpleNamespace(fell=False),
+        metrics=SimpleNamespace(fall_time_s=None),
     )
     summary = turning_summary(result, config)
     assert summary["yaw_at_check_deg"] == pytest.approx(70.0, abs=0.05)
@@ -388,6 +391,7 @@ def test_run_tasks_keeps_the_order_in_processes():
         run_tasks([(os._exit, (3,)), (math.sqrt, (1.0,))], workers=2, progress=False)
 
 
+@pytest.mark.slow
 def test_runner_writes_table_json_and_figures(tmp_path):
     """The one command on a tiny grid: one controller, one push cell, a short turning walk."""
     spec = importlib.util.spec_from_file_location(
@@ -426,7 +430,13 @@ def test_runner_writes_table_json_and_figures(tmp_path):
     assert results["mode"] == "quick" and list(results["controllers"]) == ["analytic"]
     assert len(results["push_sweep"]["cases"]) == 1
     row = results["rows"][0]
-    assert row["controller"] == "analytic" and row["impulse_ratio"] == pytest.approx(1.0)
+    (case,) = results["push_sweep"]["cases"]
+    assert row["controller"] == "analytic" == case["controller"]
+    # the row's impulse is the one cell's bisection result: the largest impulse it survived
+    survived = [impulse for impulse, ok in case["trials"] if ok]
+    assert case["largest_survived_Ns"] == pytest.approx(max(survived, default=0.0), abs=1e-6)
+    assert row["impulse_median_Ns"] == pytest.approx(case["largest_survived_Ns"])
+    assert row["impulse_median_Ns"] > 0.0
     assert row["turning_yaw_deg"] is None  # 1.5 s of walking: no yaw after 3.5 s
     readme = (out / "README.md").read_text()
     assert "| analytic |" in readme and "--quick" in readme

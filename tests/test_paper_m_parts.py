@@ -7,27 +7,20 @@ from types import SimpleNamespace
 import numpy as np
 import pinocchio as pin
 import pytest
+from conftest import get_robot
+from stabilizer_inputs import measurements, stabilizer_input
 
+from mpcwalk.control.arm_swing import ArmSwing
 from mpcwalk.control.controller import WalkingController
 from mpcwalk.control.stabilizers import make_stabilizer
 from mpcwalk.control.stabilizers.gyro import PAPER_M_GAINS, GyroStabilizer, heading_rates
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import FootGeometry, FootstepPlan
-from mpcwalk.gait.arm_swing import ArmSwing
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators import make_generator
 from mpcwalk.models.lipm import LIPM
-from mpcwalk.robot.loading import load_robot
-from mpcwalk.walking.report import _attitude_metrics, yaw_deviation_deg
+from mpcwalk.walking.metrics import _attitude_metrics, yaw_deviation_deg
 from mpcwalk.walking.runner import plan_walk_footsteps
-
-_ROBOTS = {}
-
-
-def get_robot(name):
-    if name not in _ROBOTS:
-        _ROBOTS[name] = load_robot(name, visual=False)
-    return _ROBOTS[name]
 
 
 def schedule_for(robot, nb_steps=4, vx=0.1):
@@ -37,6 +30,11 @@ def schedule_for(robot, nb_steps=4, vx=0.1):
 
 def controller_for(robot, **options):
     return WalkingController.for_robot(robot, "analytic", schedule_for(robot), **options)
+
+
+def inputs_for(robot, sensors=None):
+    """The stabilizer input at the start of a walk, built by hand (no controller)."""
+    return stabilizer_input(robot, schedule_for(robot), sensors=sensors)
 
 
 def torso_in_sole(robot, q, side_index):
@@ -58,7 +56,7 @@ def test_gyro_offsets_turn_the_torso_against_the_measured_rate(robot_name, axis)
     roll (axis 0) or pitch (axis 1) rate, on every robot whatever its joint axis signs."""
     robot = get_robot(robot_name)
     stabilizer = GyroStabilizer()
-    stabilizer.reset(controller_for(robot))
+    stabilizer.reset(inputs_for(robot))
     rates = np.zeros(2)
     rates[axis] = 1.0  # [rad/s]
     offsets = stabilizer.offsets(rates)
@@ -79,7 +77,7 @@ def test_gyro_offsets_turn_the_torso_against_the_measured_rate(robot_name, axis)
 def test_gyro_offsets_are_paper_m_gains_times_rates_on_the_small_humanoid():
     robot = get_robot("bioloid-like")
     stabilizer = GyroStabilizer()
-    stabilizer.reset(controller_for(robot))
+    stabilizer.reset(inputs_for(robot))
     offsets = stabilizer.offsets([0.3, -0.2])
     names = robot.joint_names
     for side in ("left", "right"):
@@ -100,17 +98,16 @@ def test_gyro_offsets_are_paper_m_gains_times_rates_on_the_small_humanoid():
 def test_gyro_adds_offsets_to_the_servo_targets_from_the_imu():
     robot = get_robot("bioloid-like")
     stabilizer = make_stabilizer("gyro", max_offset=0.01)
-    stabilizer.reset(controller_for(robot))
-    imu = SimpleNamespace(gyro=np.array([2.0, 0.0, 0.0]), quaternion=np.array([1.0, 0, 0, 0]))
-    measurement = SimpleNamespace(measurements=SimpleNamespace(imu=imu))
+    stabilizer.reset(inputs_for(robot))
+    sensors = measurements(gyro=(2.0, 0.0, 0.0), quaternion=(1.0, 0.0, 0.0, 0.0))
     targets = np.zeros(len(robot.joint_names))
-    out = stabilizer.adjust_joint_targets(None, 0.0, targets, None, measurement)
+    out = stabilizer.adjust_joint_targets(inputs_for(robot, sensors), targets)
     index = robot.joint_names.index("left_foot_roll")
     assert out[index] == pytest.approx(0.01)  # 0.05 * 2 rad/s clipped at max_offset
     assert out[robot.joint_names.index("left_knee")] == 0.0  # no pitch rate
     assert np.all(targets == 0.0)  # input untouched
     # no measurement (kinematic robot): identity
-    assert stabilizer.adjust_joint_targets(None, 0.0, targets, None, None) is targets
+    assert stabilizer.adjust_joint_targets(inputs_for(robot), targets) is targets
 
 
 def test_heading_rates_do_not_depend_on_yaw_or_an_upside_down_imu():
@@ -184,6 +181,21 @@ def test_arm_swing_moves_each_hand_with_the_opposite_foot():
     )
     # standing: nominal posture
     assert np.allclose(swing.joint_angles(com, [0, 0.04], [0, -0.04], 0.0), swing.nominal)
+
+
+def test_arm_swing_stage_sets_only_the_shoulder_pitches_after_the_ik():
+    robot = get_robot("bioloid-like")
+    swing = ArmSwing(robot, 0.8)
+    schedule = schedule_for(robot)
+    feet = stabilizer_input(robot, schedule, t=schedule.walk_start + 0.3).targets.feet
+    com, yaw = np.array([0.01, 0.0]), 0.1
+    q = robot.q0.copy()
+    swung = swing.apply(q, com, feet, yaw)
+    expected = swing.joint_angles(com, feet.left.position, feet.right.position, yaw)
+    np.testing.assert_array_equal(swung[7 + swing.joint_indices], expected)
+    others = np.setdiff1d(np.arange(robot.model.nq), 7 + swing.joint_indices)
+    np.testing.assert_array_equal(swung[others], q[others])
+    np.testing.assert_array_equal(q, robot.q0)  # a new configuration: the input is untouched
 
 
 @pytest.mark.parametrize("factor", [-0.5, float("inf"), "0.8", True])
@@ -281,6 +293,7 @@ def test_yaw_deviation_counts_after_the_push_only():
 
 
 # ---------------------------------------------------------------- in MuJoCo
+@pytest.mark.slow
 def test_gyro_stabilizer_keeps_the_open_loop_closed_form_walking():
     """Paper M's gait without any CoM feedback: its sway grows until it falls after about 6 s
     of walking; the gyro stabilizer damps it and the walk ends standing."""
@@ -304,6 +317,7 @@ def test_gyro_stabilizer_keeps_the_open_loop_closed_form_walking():
     assert runs["gyro"]["roll_max_deg"] < 10.0
 
 
+@pytest.mark.slow
 def test_walk_command_with_paper_m_options_reports_attitude_and_yaw_deviation(tmp_path, capsys):
     import json
 
@@ -333,7 +347,7 @@ def test_walk_command_with_paper_m_options_reports_attitude_and_yaw_deviation(tm
     )
     assert code == 0, capsys.readouterr().out
     metrics = json.loads((tmp_path / "metrics.json").read_text())
-    assert metrics["stabilizer"] == "gyro" and metrics["arm_swing"] == 0.8
+    assert metrics["config"]["stabilizer"] == "gyro" and metrics["config"]["arm_swing"] == 0.8
     assert 0.0 < metrics["yaw_deviation_deg"] < 20.0
     assert metrics["roll_max_deg"] > 0.0 and metrics["pitch_max_deg"] > 0.0
     # the push turns the robot: the deviation from the unpushed walk is its yaw at the end

@@ -6,9 +6,10 @@ from plans import arc_schedule
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.gait.support_margins import support_margins
-from mpcwalk.generators import ComState, make_generator, rollout
+from mpcwalk.generators import make_generator, rollout
 from mpcwalk.generators.preview import PreviewGenerator, compute_preview_gains
 from mpcwalk.models.cart_table import CartTable
+from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
 
 COMMANDS = {  # torso displacement per step (dx [m], dy [m], dyaw [rad]) at T = 0.5 s

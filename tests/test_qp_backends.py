@@ -14,8 +14,10 @@ from mpcwalk.generators.mpc import MpcGenerator
 from mpcwalk.generators.static_qp import StaticQPGenerator
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp import QPResult, WalkingQP, make_solver, solver_names
+from mpcwalk.qp.solvers import SOLVERS, KktSolver, SolverEntry, SolverRegistry
 from mpcwalk.qp.solvers.casadi_qp import available_plugins
-from mpcwalk.qp.solvers.registry import DEFINITE_SOLVERS
+from mpcwalk.qp.solvers.qpsolvers_backend import DEFINITE_SOLVERS
+from mpcwalk.qp.solvers.registry import qpsolvers_extras
 
 
 def straight_schedule(step_duration, r_ds, nb_steps=6, stride=0.05):
@@ -209,12 +211,48 @@ def test_kkt_solver_is_exact_without_constraints():
 def test_unknown_solver_lists_the_available_ones():
     with pytest.raises(
         SolverNotFound,
-        match="'gurobo' is not available; the available solvers are osqp-direct, kkt.*quadprog",
-    ):
+        match="Unknown solver 'gurobo'; available: osqp-direct, kkt.*quadprog",
+    ) as error:
         make_solver("gurobo")
-    with pytest.raises(SolverNotFound, match="casadi-cplx"):
+    assert "qpsolvers[gurobo]" not in str(error.value)  # no install hint for a typo
+    with pytest.raises(SolverNotFound, match="Unknown solver 'casadi-cplx'"):
         make_solver("casadi-cplx")
     assert set(qpsolvers.available_solvers) <= set(solver_names())
+
+
+def test_unknown_solver_names_the_installable_ones_with_their_command():
+    """One registry: a typo lists what is available and what qpsolvers can install (with
+    the extra of its metadata: ``jaxopt_osqp`` comes with ``qpsolvers[jaxopt]``); a known
+    solver that is not installed gets its own command."""
+    missing = SOLVERS.installable()
+    with pytest.raises(SolverNotFound, match=r"; installable: ") as error:
+        make_solver("nosuchsolver")
+    message = str(error.value)
+    assert "qpsolvers[nosuchsolver]" not in message
+    assert error.value.available == solver_names()
+    assert error.value.installable == missing
+    for name in missing:
+        assert name in message
+    if "jaxopt_osqp" in missing:
+        assert "jaxopt_osqp (`pip install qpsolvers[jaxopt]`)" in message
+    extras = qpsolvers_extras()
+    assert extras.get("gurobi") == "gurobi"  # qpsolvers 4 installs Gurobi's interface
+    if "gurobi" in missing:
+        with pytest.raises(SolverNotFound, match=r"'gurobi' is not installed.*qpsolvers\[gurobi\]"):
+            make_solver("gurobi")
+
+
+def test_the_registry_takes_new_back_ends():
+    registry = SolverRegistry()
+    registry.register(
+        SolverEntry("fake", lambda **settings: KktSolver(), lambda: False, "pip install fake")
+    )
+    assert registry.names() == [] and registry.installable() == {"fake": "pip install fake"}
+    with pytest.raises(SolverNotFound, match="'fake' is not installed; install it with"):
+        registry.make("fake")
+    registry.register(SolverEntry("fake", lambda **settings: KktSolver(), lambda: True, ""))
+    assert registry.names() == ["fake"] and isinstance(registry.make("fake"), KktSolver)
+    assert SOLVERS.get("daqp").definite_only and SOLVERS.get("osqp-direct").warm_start
 
 
 def test_definite_solvers_refuse_the_sparse_layout():

@@ -5,6 +5,7 @@ import pytest
 
 from mpcwalk.exceptions import ConfigurationError, InfeasibleStep
 from mpcwalk.footsteps.footstep import Footstep, Side
+from mpcwalk.footsteps.leg_limits import LegLimits
 from mpcwalk.footsteps.path_follower import PathFollower
 from mpcwalk.footsteps.reachability import (
     ATLAS_REACHABILITY,
@@ -12,7 +13,6 @@ from mpcwalk.footsteps.reachability import (
     ReachabilityRectangle,
     opening_side,
 )
-from mpcwalk.footsteps.velocity_planner import LegLimits
 
 RECT = ATLAS_REACHABILITY  # x [-0.15, 0.30], y [0.18, 0.40], yaw [-0.4, 0.4]
 LEFT0 = Footstep(Side.LEFT, [0.0, 0.12, 0.0])

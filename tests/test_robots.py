@@ -6,21 +6,16 @@ import mujoco
 import numpy as np
 import pinocchio as pin
 import pytest
+from conftest import get_robot
 
-from mpcwalk.exceptions import ConfigurationError, MpcwalkError
+from mpcwalk.exceptions import ConfigurationError, FrameNotFound, MpcwalkError, RobotNotFound
+from mpcwalk.footsteps import LegLimits
+from mpcwalk.robot import Robot, load_robot, robot_names
 from mpcwalk.robot import loading as robots
-from mpcwalk.robot.loading import FrameNotFound, Robot, RobotNotFound, load_robot, robot_names
+from mpcwalk.sim import make_mj_data
 
 NAMES = robot_names()
 TOLERANCE = 1e-9
-_CACHE = {}
-
-
-def get_robot(name: str) -> Robot:
-    """Robots are loaded once per test session (without meshes: same kinematics, faster)."""
-    if name not in _CACHE:
-        _CACHE[name] = load_robot(name, visual=False)
-    return _CACHE[name]
 
 
 def random_configuration(robot: Robot, rng: np.random.Generator) -> np.ndarray:
@@ -181,7 +176,7 @@ def test_only_the_feet_touch_the_floor(name):
 @pytest.mark.parametrize("name", NAMES)
 def test_stands_one_second_under_position_control(name):
     robot = get_robot(name)
-    data = robot.make_mj_data()
+    data = make_mj_data(robot)
     height = data.qpos[2]
     while data.time < 1.0:
         mujoco.mj_step(robot.mj_model, data)
@@ -247,3 +242,42 @@ def test_preset_errors_are_configuration_errors(monkeypatch, tmp_path):
     (tmp_path / "broken.toml").write_text('name = "broken"\nformat = "mjcf"\n')
     with pytest.raises(ConfigurationError, match=r"broken.toml is malformed"):
         load_robot("broken")
+
+
+def test_unknown_gait_key_is_refused_with_the_valid_names(monkeypatch, tmp_path):
+    name = _patched_preset(
+        monkeypatch, tmp_path, "bioloid_like.toml", "step_height = 0.04", "step_heigth = 0.04"
+    )
+    with pytest.raises(ConfigurationError, match=r"unknown \[gait\] key\(s\) step_heigth") as error:
+        load_robot(name)
+    assert "bioloid_like.toml" in str(error.value)
+    assert "valid keys: step_duration, double_support_ratio, step_height" in str(error.value)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_leg_limits_and_initial_feet_come_from_the_preset_and_the_nominal_posture(name):
+    """The values the walk runner computed before they were the robot's: the ``[gait]``
+    limits, the half stance width of ``q0`` where the preset has none, and y_sep at most it."""
+    robot = get_robot(name)
+    left, right = robot.compute_sole_placements(robot.q0)
+    half_width = 0.5 * float(np.linalg.norm(left.translation[:2] - right.translation[:2]))
+    keys = [f for f in LegLimits.__dataclass_fields__ if getattr(robot.gait, f) is not None]
+    values = {"half_stance_width": half_width, **{k: getattr(robot.gait, k) for k in keys}}
+    values.setdefault("y_sep", min(LegLimits().y_sep, values["half_stance_width"]))
+    assert robot.leg_limits == LegLimits(**values)
+    feet = robot.initial_feet()
+    for foot, sole in zip(feet, (left, right)):
+        np.testing.assert_array_equal(foot.position, sole.translation)
+        assert foot.yaw == np.arctan2(sole.rotation[1, 0], sole.rotation[0, 0])
+    assert robot.gait is robot.preset.gait
+
+
+def test_importing_robots_loads_no_mujoco():
+    import subprocess
+    import sys
+
+    code = "import sys, mpcwalk.robot; print('mujoco' in sys.modules)"
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    )
+    assert result.stdout.strip() == "False"

@@ -3,16 +3,18 @@
 import numpy as np
 import pinocchio as pin
 import pytest
+from conftest import get_robot
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.models.support_polygon import SupportPolygon, foot_rectangle
-from mpcwalk.robot.loading import load_robot, robot_names
+from mpcwalk.robot import Measurements, robot_names
 from mpcwalk.sim import (
     ExternalForce,
     FallDetector,
     PushFormatError,
     RenderingUnavailable,
     SensorNoise,
+    SimState,
     Simulation,
     SimulationUnstable,
     VideoDependencyMissing,
@@ -24,14 +26,6 @@ from mpcwalk.sim import (
 
 NAMES = robot_names()
 MAIN_ROBOTS = [name for name in ("bioloid-like", "atlas-like", "g1") if name in NAMES]
-_ROBOTS = {}
-
-
-def get_robot(name: str):
-    """Robots are loaded once per test session, without meshes (same physics, faster)."""
-    if name not in _ROBOTS:
-        _ROBOTS[name] = load_robot(name, visual=False)
-    return _ROBOTS[name]
 
 
 def weight(robot) -> float:
@@ -282,6 +276,19 @@ def test_imu_readings_and_sensor_noise():
     np.testing.assert_array_equal(noisy[0].q, noisy[2].q)  # ground truth has no noise
     com_state = state.measurements.com_state()
     np.testing.assert_array_equal(com_state.position, state.measurements.com[:2])
+
+
+def test_measurements_are_the_typed_readings_a_controller_gets():
+    """What the controller reads (robot.sensors.Measurements) carries the measured soles; the
+    simulation's ground truth (SimState) stays beside it."""
+    robot = get_robot("bioloid-like")
+    state = Simulation(robot).step()
+    sensors = state.measurements
+    assert isinstance(sensors, Measurements) and not isinstance(sensors, SimState)
+    np.testing.assert_array_equal(sensors.sole_positions, state.sole_positions)
+    np.testing.assert_array_equal(sensors.sole_yaws, state.sole_yaws)
+    assert sensors.sole_rotations.shape == (2, 3, 3) and not sensors.sole_positions.flags.writeable
+    np.testing.assert_array_equal(sensors.joint_velocities, state.v[6:])
 
 
 def test_quaternion_to_rpy_matches_pinocchio():

@@ -4,6 +4,7 @@ import functools
 
 import numpy as np
 import pytest
+from conftest import walk_outputs
 from plans import velocity_schedule as arc_schedule
 
 from mpcwalk.exceptions import NoSolutionFound
@@ -23,12 +24,10 @@ COMMANDS = {  # (vx [m/s], vy [m/s], yaw rate [rad/s]) at T = 4 s
 def slow_walk(name):
     schedule = arc_schedule(COMMANDS[name], **SLOW)
     generator = StaticQPGenerator()
-    outs = [generator.reset(schedule)]
-    while not generator.done:
-        outs.append(generator.step())
-    return schedule, generator, outs
+    return schedule, generator, walk_outputs(generator, schedule)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", COMMANDS)
 def test_com_projection_keeps_its_margin_at_every_planned_sample(name, record_property):
     schedule, generator, outs = slow_walk(name)
@@ -63,6 +62,7 @@ def test_com_projection_keeps_its_margin_at_every_planned_sample(name, record_pr
     assert executed_zmp >= -1e-6
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", COMMANDS)
 def test_com_is_over_the_support_foot_in_single_support_and_ends_at_rest(name):
     schedule, _generator, outs = slow_walk(name)
@@ -77,6 +77,7 @@ def test_com_is_over_the_support_foot_in_single_support_and_ends_at_rest(name):
     assert np.linalg.norm(outs[-1].com_velocity) < 1e-3
 
 
+@pytest.mark.slow
 def test_the_qp_decides_when_to_move_in_double_support():
     schedule, generator, outs = slow_walk("straight")
     first_single = schedule.walk_start + schedule.t_b  # 3 s

@@ -1,56 +1,50 @@
 """Closed-loop walks in MuJoCo: the robots walk, and the runner and CLI report it."""
 
+import dataclasses
 import json
 import math
 from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import get_robot
 
 from mpcwalk.cli import main as cli_main
-from mpcwalk.robot.loading import load_robot
 from mpcwalk.sim import FallDetector, parse_push
-from mpcwalk.walking.report import cop_margins, landing_check_times
-from mpcwalk.walking.runner import leg_limits, plan_walk_footsteps, run_walk
+from mpcwalk.walking.metrics import WalkMetrics, cop_margins, landing_check_times
+from mpcwalk.walking.runner import plan_walk_footsteps, run_walk
 
 ROOT = Path(__file__).resolve().parent.parent
 TURN_RATE = math.radians(20.0)  # [rad/s] paper M's turning walk
-_ROBOTS = {}
-
-
-def get_robot(name: str):
-    if name not in _ROBOTS:
-        _ROBOTS[name] = load_robot(name, visual=False)
-    return _ROBOTS[name]
 
 
 def check_walk(
-    metrics,
+    m: WalkMetrics,
     *,
     distance_tolerance,
     foot_error_cm,
-    zmp_margin_min,
+    cop_margin_min,
     yaw_tolerance=5.0,
     foot_yaw_error_deg=5.0,
 ):
-    """What every required walk must show (tolerances in the units of the keys)."""
-    assert not metrics["fell"], metrics["fall_reason"]
-    assert metrics["steps_completed"] == metrics["steps_planned"]
-    assert abs(metrics["distance_m"] - metrics["distance_planned_m"]) < distance_tolerance
-    assert abs(metrics["yaw_change_deg"] - metrics["yaw_change_planned_deg"]) < yaw_tolerance
+    """What every required walk must show (tolerances in the units of the fields)."""
+    assert not m.fell, m.fall_reason
+    assert m.steps_completed == m.steps_planned
+    assert abs(m.distance_m - m.distance_planned_m) < distance_tolerance
+    assert abs(m.yaw_change_deg - m.yaw_change_planned_deg) < yaw_tolerance
     # landings: world frame (includes the drift of earlier steps, as paper A's Fig. 8) and
     # relative to the support foot they were taken from
-    assert metrics["foot_position_error_cm_max"] < foot_error_cm
-    assert metrics["foot_step_error_cm_max"] < 1.0
-    assert metrics["foot_yaw_error_deg_max"] < foot_yaw_error_deg
-    assert metrics["foot_step_yaw_error_deg_max"] < 2.0
+    assert m.foot_position_error_cm_max < foot_error_cm
+    assert m.foot_step_error_cm_max < 1.0
+    assert m.foot_yaw_error_deg_max < foot_yaw_error_deg
+    assert m.foot_step_yaw_error_deg_max < 2.0
     # measured CoP against the measured soles the schedule puts on the ground: inside at 95 %
     # of the ticks; the worst ticks are touchdowns a tick early or lift-offs a tick late
-    assert metrics["zmp_margin_p05_m"] > 0.0
-    assert metrics["zmp_margin_min_m"] > zmp_margin_min
-    assert metrics["cop_outside_share"] < 0.05
-    assert metrics["mpc_failures"] == 0
-    assert metrics["time_simulated_s"] > 0.0 and metrics["real_time_factor"] > 0.0
+    assert m.cop_margin_p05_m > 0.0
+    assert m.cop_margin_min_m > cop_margin_min
+    assert m.cop_outside_share < 0.05
+    assert m.mpc_failures == 0
+    assert m.time_simulated_s > 0.0 and m.real_time_factor > 0.0
 
 
 @pytest.mark.slow
@@ -60,20 +54,20 @@ def test_small_humanoid_walks_twenty_steps_forward(generator):
     result = run_walk(
         get_robot("bioloid-like"), generator, command=(0.1, 0.0, 0.0), nb_steps=20, progress=False
     )
-    m = result.metrics
+    m, config = result.metrics, result.config
     assert (
-        m["step_duration_s"],
-        m["com_height_m"],
-        m["step_height_m"],
-        m["double_support_ratio"],
+        config.step_duration_s,
+        config.com_height_m,
+        config.step_height_m,
+        config.double_support_ratio,
     ) == (0.5, 0.23, 0.04, 0.2)
-    assert m["steps_planned"] == 21  # 20 steps and the closing one
-    assert m["distance_planned_m"] == pytest.approx(1.0)
+    assert m.steps_planned == 21 and m.closing_steps == 1  # 20 steps and the closing one
+    assert m.distance_planned_m == pytest.approx(1.0)
     check_walk(
         m,
         distance_tolerance=0.06,
         foot_error_cm=5.0,
-        zmp_margin_min=-0.06 if generator == "analytic" else -0.03,
+        cop_margin_min=-0.06 if generator == "analytic" else -0.03,
     )
 
 
@@ -89,7 +83,11 @@ def test_small_humanoid_turning_walk_of_paper_m(generator):
         progress=False,
     )
     m = result.metrics
-    assert m["yaw_change_planned_deg"] == pytest.approx(200.0)
+    assert m.yaw_change_planned_deg == pytest.approx(200.0)
+    # 10 s of walking: 20 steps and the closing one, 1 s standing before and after
+    assert result.config.nb_steps == 20 and m.steps_planned == 21
+    assert m.walking_time_planned_s == pytest.approx(10.5)
+    assert m.time_planned_s == pytest.approx(12.5) == m.time_simulated_s
     # world-frame errors grow with the heading drift of the stance feet (yaw slips of a
     # fraction of a degree per step with the preview generator), the per-step ones do not
     check_walk(
@@ -98,7 +96,7 @@ def test_small_humanoid_turning_walk_of_paper_m(generator):
         foot_error_cm=10.0,
         yaw_tolerance=12.0,
         foot_yaw_error_deg=12.0,
-        zmp_margin_min=-0.06 if generator == "analytic" else -0.03,
+        cop_margin_min=-0.06 if generator == "analytic" else -0.03,
     )
 
 
@@ -107,15 +105,14 @@ def test_large_humanoid_walks_ten_steps_at_one_second_per_step():
     result = run_walk(
         get_robot("atlas-like"), "mpc", command=(0.2, 0.0, 0.0), nb_steps=10, progress=False
     )
-    m = result.metrics
-    assert m["step_duration_s"] <= 1.0  # paper A needed 12 s per step
-    check_walk(m, distance_tolerance=0.1, foot_error_cm=7.0, zmp_margin_min=-0.03)
+    assert result.config.step_duration_s <= 1.0  # paper A needed 12 s per step
+    check_walk(result.metrics, distance_tolerance=0.1, foot_error_cm=7.0, cop_margin_min=-0.03)
 
 
 @pytest.mark.slow
 def test_unitree_g1_walks_ten_steps():
     result = run_walk(get_robot("g1"), "mpc", command=(0.2, 0.0, 0.0), nb_steps=10, progress=False)
-    check_walk(result.metrics, distance_tolerance=0.06, foot_error_cm=5.0, zmp_margin_min=-0.03)
+    check_walk(result.metrics, distance_tolerance=0.06, foot_error_cm=5.0, cop_margin_min=-0.03)
 
 
 @pytest.mark.slow
@@ -124,13 +121,13 @@ def test_large_humanoid_follows_paper_a_path_file():
     robot = get_robot("atlas-like")
     result = run_walk(robot, "mpc", path=path, nb_steps=6, progress=False)
     m = result.metrics
-    assert m["steps_planned"] == 6 and m["path"] == str(path)
+    assert m.steps_planned == 6 and m.closing_steps == 0 and result.config.path == str(path)
     plan = result.schedule.plan
     # the file's two steps in place, then forward steps within paper A's rectangle
     assert plan.steps[0].xy[0] == pytest.approx(0.0, abs=1e-9)
     assert max(step.xy[0] for step in plan.steps) > 0.2
-    assert not m["fell"] and m["steps_completed"] == 6
-    assert m["foot_step_error_cm_max"] < 2.0 and m["foot_position_error_cm_max"] < 5.0
+    assert not m.fell and m.steps_completed == 6
+    assert m.foot_step_error_cm_max < 2.0 and m.foot_position_error_cm_max < 5.0
 
 
 def test_fall_ends_the_run_early_and_says_why():
@@ -140,24 +137,30 @@ def test_fall_ends_the_run_early_and_says_why():
         robot, "mpc", command=(0.1, 0.0, 0.0), nb_steps=6, pushes=[push], progress=False
     )
     m = result.metrics
-    assert m["fell"] and result.fall.fell
-    assert "base" in m["fall_reason"]
-    assert m["time_simulated_s"] < result.schedule.duration - 1.0
-    assert m["time_simulated_s"] == pytest.approx(m["fall_time_s"])
-    assert m["steps_completed"] < m["steps_planned"]
-    assert m["pushes"] == [[1.2, 0.2, 0.0, 40.0, 0.0]]
+    assert m.fell and result.fall.fell
+    assert "base" in m.fall_reason
+    assert m.time_simulated_s < m.time_planned_s - 1.0
+    assert m.time_planned_s == pytest.approx(result.schedule.duration)
+    assert m.time_simulated_s == pytest.approx(m.fall_time_s)
+    assert m.steps_completed < m.steps_planned
+    assert result.to_dict()["config"]["pushes"] == [[1.2, 0.2, 0.0, 40.0, 0.0]]
 
 
-def test_log_round_trips_and_metrics_match_it(tmp_path):
+def test_log_round_trips_and_metrics_match_it(tmp_path, capsys):
     robot = get_robot("bioloid-like")
     result = run_walk(
         robot,
         "mpc",
         command=(0.1, 0.0, 0.0),
         nb_steps=1,
-        progress=False,
         fall_detector=FallDetector.for_robot(robot),
     )
+    assert capsys.readouterr() == ("", "")  # a library is quiet: no progress bar by default
+    # metrics.json: the WalkMetrics fields, then the configuration in its own block
+    data = json.loads(json.dumps(result.to_dict()))
+    assert list(data) == [f.name for f in dataclasses.fields(WalkMetrics)] + ["config"]
+    assert data["config"]["nb_steps"] == 1 and data["config"]["robot"] == "bioloid-like"
+    assert result.metrics["fell"] is result.metrics.fell is False
     log, schedule = result.log, result.schedule
     n = len(log)
     assert n == round(schedule.duration / 0.01)
@@ -177,17 +180,17 @@ def test_log_round_trips_and_metrics_match_it(tmp_path):
     np.testing.assert_allclose(table["cop_x"], log.cop[:, 0], rtol=1e-5, atol=1e-6)
     assert len(table) == n
     margins = cop_margins(log, schedule)
-    assert result.metrics["zmp_margin_min_m"] == pytest.approx(np.nanmin(margins))
-    assert result.metrics["steps_completed"] == len(landing_check_times(schedule)) == 2
+    assert result.metrics.cop_margin_min_m == pytest.approx(np.nanmin(margins))
+    assert result.metrics.steps_completed == len(landing_check_times(schedule)) == 2
     com = log.com[:, :2]
-    assert result.metrics["distance_m"] == pytest.approx(np.linalg.norm(com[-1] - com[0]))
+    assert result.metrics.distance_m == pytest.approx(np.linalg.norm(com[-1] - com[0]))
 
 
 def test_leg_limits_and_plans_come_from_the_presets():
     bioloid, atlas = get_robot("bioloid-like"), get_robot("atlas-like")
-    assert leg_limits(bioloid).half_stance_width == pytest.approx(0.04)
-    assert leg_limits(bioloid).y_sep == pytest.approx(0.04)
-    assert leg_limits(atlas).max_step_forward == pytest.approx(0.30)
+    assert bioloid.leg_limits.half_stance_width == pytest.approx(0.04)
+    assert bioloid.leg_limits.y_sep == pytest.approx(0.04)
+    assert atlas.leg_limits.max_step_forward == pytest.approx(0.30)
     plan = plan_walk_footsteps(bioloid, command=(0.1, 0.0, 0.0), nb_steps=4)
     left, right = bioloid.compute_sole_placements(bioloid.q0)
     np.testing.assert_allclose(plan.initial_left.position, left.translation, atol=1e-12)
@@ -217,29 +220,20 @@ def test_walk_command_writes_metrics_log_plots_and_video(tmp_path, capsys):
     )
     assert code == 0
     metrics = json.loads((out / "metrics.json").read_text())
-    for key in (
-        "fell",
-        "time_simulated_s",
-        "steps_completed",
-        "distance_m",
-        "yaw_change_deg",
-        "foot_position_error_cm_mean",
-        "foot_position_error_cm_max",
-        "foot_yaw_error_deg_mean",
-        "foot_yaw_error_deg_max",
-        "zmp_margin_min_m",
-        "generator_tick_us_median",
-        "ik_tick_us_median",
-        "real_time_factor",
-        "generator",
-        "robot",
-        "mpc_failures",
-    ):
-        assert key in metrics
-    assert metrics["fell"] is False and metrics["robot"] == "bioloid-like"
+    config = metrics.pop("config")
+    # the metrics are exactly the WalkMetrics fields, the configuration has its own block
+    assert list(metrics) == [f.name for f in dataclasses.fields(WalkMetrics)]
+    assert "zmp_margin_min_m" not in metrics and metrics["cop_margin_min_m"] is not None
+    assert metrics["fell"] is False and metrics["steps_planned"] == 3
+    assert metrics["closing_steps"] == 1 and config["nb_steps"] == 2
+    assert config["robot"] == "bioloid-like" and config["generator"] == "mpc"
+    assert config["command"] == {"vx": 0.1, "vy": 0.0, "vyaw": 0.0}
+    assert not {"robot", "generator", "step_duration_s", "pushes"} & set(metrics)
     for name in ("walk_log.npz", "top_view.png", "com_cop.png", "walk.mp4"):
         assert (out / name).stat().st_size > 1000, name
-    assert "no fall" in capsys.readouterr().out
+    out_text = capsys.readouterr().out
+    assert "no fall" in out_text and "2 steps + 1 closing step" in out_text
+    assert "CoP margin min" in out_text and "ZMP margin" not in out_text
 
 
 @pytest.mark.parametrize(
@@ -265,3 +259,12 @@ def test_robots_command_lists_the_robots_that_load(capsys):
     output = capsys.readouterr().out
     for name in ("bioloid-like", "atlas-like", "g1"):
         assert name in output
+
+
+def test_robots_command_without_robots_is_an_error(monkeypatch, capsys):
+    import mpcwalk.robot.loading as loading
+
+    monkeypatch.setattr(loading, "robot_names", lambda: ())
+    assert cli_main(["robots"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("mpcwalk: error: No robot found: searched ")

@@ -13,8 +13,9 @@ import math
 from pathlib import Path
 
 from mpcwalk.footsteps.footstep import Footstep, Side, StepTiming
+from mpcwalk.footsteps.leg_limits import LegLimits
 from mpcwalk.footsteps.mdat import PathWaypoint, write_mdat
-from mpcwalk.footsteps.velocity_planner import LegLimits, VelocityCommand, VelocityPlanner
+from mpcwalk.footsteps.velocity_planner import VelocityCommand, VelocityPlanner
 
 HERE = Path(__file__).resolve().parent
 HALF_STANCE_WIDTH = 0.12  # [m] Atlas-like feet 0.24 m apart

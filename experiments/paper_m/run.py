@@ -15,7 +15,8 @@ import sys
 from pathlib import Path
 
 from mpcwalk.experiments.paper_m import CONTROLLERS, DEFAULT_CONFIG, EXPERIMENTS, load_config
-from mpcwalk.experiments.paper_m_report import format_goals, format_table, run_paper_m
+from mpcwalk.experiments.paper_m_report import run_paper_m
+from mpcwalk.experiments.paper_m_table import format_goals, format_table
 
 
 def main(argv=None) -> int:

@@ -37,23 +37,37 @@ def _run_ticks(args) -> int:
 
 def add_bench_parser(sub) -> None:
     """Add ``bench`` and its sub-commands to the top-level parser."""
-    bench = sub.add_parser("bench", help="benchmarks (generator tick times, ...)")
+    from mpcwalk.bench.ticks import DEFAULT_QPSOLVERS
+
+    bench = sub.add_parser(
+        "bench", help="benchmarks: generator ticks, whole-body IK, walk loop, QP solvers"
+    )
     bsub = bench.add_subparsers(dest="bench_command", required=True)
     ticks = bsub.add_parser(
         "ticks",
         help="per-tick time of every generator and MPC back-end on one walk, with the qpmpc peer",
     )
-    ticks.add_argument("--steps", type=int, default=20)
-    ticks.add_argument("--vx", type=float, default=0.1)
-    ticks.add_argument("--vy", type=float, default=0.0)
-    ticks.add_argument("--vyaw", type=float, default=0.35)
-    ticks.add_argument("--control-period", type=float, default=0.01)
     ticks.add_argument(
-        "--solvers", default=None, help="comma-separated qpsolvers back-ends for the MPC"
+        "--steps", type=int, default=20, help="steps of the walk (a closing step is added)"
+    )
+    ticks.add_argument("--vx", type=float, default=0.1, help="forward velocity [m/s]")
+    ticks.add_argument("--vy", type=float, default=0.0, help="lateral velocity [m/s]")
+    ticks.add_argument("--vyaw", type=float, default=0.35, help="yaw rate [rad/s]")
+    ticks.add_argument("--control-period", type=float, default=0.01, help="generator tick [s]")
+    ticks.add_argument(
+        "--solvers",
+        default=None,
+        help="comma-separated qpsolvers back-ends for the MPC (default: "
+        f"{','.join(DEFAULT_QPSOLVERS)})",
     )
     ticks.add_argument("--no-peer", action="store_true", help="skip the qpmpc peer")
-    ticks.add_argument("--no-progress", action="store_true")
-    ticks.add_argument("--out", type=Path, default=Path("results/ticks"))
+    ticks.add_argument("--no-progress", action="store_true", help="no progress bar")
+    ticks.add_argument(
+        "--out",
+        type=Path,
+        default=Path("results/ticks"),
+        help="output directory (ticks.md, ticks.json)",
+    )
     ticks.set_defaults(bench_func=_run_ticks)
     from mpcwalk.bench.ik import add_ik_bench_parser
 

@@ -20,7 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from mpcwalk.ik import IKTargets, IKWeights, WholeBodyIK
-from mpcwalk.robot.loading import Robot, load_robot
+from mpcwalk.robot import Robot, load_robot
 
 DEFAULT_ROBOTS = ("bioloid-like", "atlas-like", "g1")
 DEFAULT_PINK_SOLVERS = ("daqp", "quadprog", "proxqp")
@@ -309,6 +309,8 @@ def add_ik_bench_parser(bsub) -> None:
         help="comma-separated qpsolvers back-ends for pink",
     )
     parser.add_argument("--no-pink", action="store_true", help="skip the pink peer")
-    parser.add_argument("--no-progress", action="store_true")
-    parser.add_argument("--out", type=Path, default=Path("results/ik"))
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--out", type=Path, default=Path("results/ik"), help="output directory (ik.md, ik.json)"
+    )
     parser.set_defaults(bench_func=_run_ik_command)

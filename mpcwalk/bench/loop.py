@@ -50,7 +50,7 @@ class LoopCase:
         foot_position_error_cm_mean: Landed against planned footsteps, world frame, in [cm].
         foot_position_error_cm_max: In [cm].
         foot_yaw_error_deg_max: In [deg].
-        zmp_margin_p05_m: 5th percentile of the measured CoP margin, in [m].
+        cop_margin_p05_m: 5th percentile of the measured CoP margin, in [m].
     """
 
     robot: str
@@ -71,7 +71,7 @@ class LoopCase:
     foot_position_error_cm_mean: float
     foot_position_error_cm_max: float
     foot_yaw_error_deg_max: float
-    zmp_margin_p05_m: float
+    cop_margin_p05_m: float
 
 
 def run_loop_benchmark(walks=DEFAULT_WALKS, *, progress: bool = True) -> list[LoopCase]:
@@ -97,28 +97,28 @@ def run_loop_benchmark(walks=DEFAULT_WALKS, *, progress: bool = True) -> list[Lo
             step_duration=step_duration,
             progress=False,
         )
-        m = result.metrics
+        m, config = result.metrics, result.config
         cases.append(
             LoopCase(
                 robot=robot,
                 generator=generator,
-                command=tuple(command),
-                step_duration_s=float(m["step_duration_s"]),
-                fell=bool(m["fell"]),
-                steps_completed=int(m["steps_completed"]),
-                time_simulated_s=float(m["time_simulated_s"]),
-                real_time_factor=float(m["real_time_factor"]),
-                generator_tick_us=float(m["generator_tick_us_median"]),
-                ik_tick_us=float(m["ik_tick_us_median"]),
-                controller_tick_us=float(m["controller_tick_us_median"]),
-                mujoco_step_us=float(m["mujoco_step_us_median"]),
-                distance_m=float(m["distance_m"]),
-                distance_planned_m=float(m["distance_planned_m"]),
-                yaw_change_deg=float(m["yaw_change_deg"]),
-                foot_position_error_cm_mean=float(m["foot_position_error_cm_mean"] or 0.0),
-                foot_position_error_cm_max=float(m["foot_position_error_cm_max"] or 0.0),
-                foot_yaw_error_deg_max=float(m["foot_yaw_error_deg_max"] or 0.0),
-                zmp_margin_p05_m=float(m["zmp_margin_p05_m"] or 0.0),
+                command=(float(command[0]), float(command[1]), float(command[2])),
+                step_duration_s=float(config.step_duration_s),
+                fell=bool(m.fell),
+                steps_completed=int(m.steps_completed),
+                time_simulated_s=float(m.time_simulated_s),
+                real_time_factor=float(m.real_time_factor or 0.0),
+                generator_tick_us=float(m.generator_tick_us_median or 0.0),
+                ik_tick_us=float(m.ik_tick_us_median or 0.0),
+                controller_tick_us=float(m.controller_tick_us_median or 0.0),
+                mujoco_step_us=float(m.mujoco_step_us_median or 0.0),
+                distance_m=float(m.distance_m),
+                distance_planned_m=float(m.distance_planned_m),
+                yaw_change_deg=float(m.yaw_change_deg),
+                foot_position_error_cm_mean=float(m.foot_position_error_cm_mean or 0.0),
+                foot_position_error_cm_max=float(m.foot_position_error_cm_max or 0.0),
+                foot_yaw_error_deg_max=float(m.foot_yaw_error_deg_max or 0.0),
+                cop_margin_p05_m=float(m.cop_margin_p05_m or 0.0),
             )
         )
     return cases
@@ -137,7 +137,7 @@ def format_loop_table(cases: Sequence[LoopCase]) -> str:
             f"{c.step_duration_s:g} | {'yes' if c.fell else 'no'} | {c.steps_completed} | "
             f"{c.distance_m:.3f} ({c.distance_planned_m:.3f}) | {c.yaw_change_deg:.1f} | "
             f"{c.foot_position_error_cm_mean:.2f} / {c.foot_position_error_cm_max:.2f} | "
-            f"{c.foot_yaw_error_deg_max:.2f} | {100 * c.zmp_margin_p05_m:.2f} |"
+            f"{c.foot_yaw_error_deg_max:.2f} | {100 * c.cop_margin_p05_m:.2f} |"
         )
     lines += [
         "",
@@ -180,6 +180,11 @@ def add_loop_bench_parser(bsub) -> None:
     loop = bsub.add_parser(
         "loop", help="whole-loop timing of MuJoCo walks per robot, with the IK beside pink"
     )
-    loop.add_argument("--no-progress", action="store_true")
-    loop.add_argument("--out", type=Path, default=Path("results/loop"))
+    loop.add_argument("--no-progress", action="store_true", help="no progress bar")
+    loop.add_argument(
+        "--out",
+        type=Path,
+        default=Path("results/loop"),
+        help="output directory (loop.md, loop.json)",
+    )
     loop.set_defaults(bench_func=_run_loop_command)

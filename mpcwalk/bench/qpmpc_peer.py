@@ -12,13 +12,9 @@ update the problem, build ``MPCQP`` and call ``qpsolvers.solve_problem``.
 import numpy as np
 
 from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.generators.pattern_generator import (
-    ComState,
-    GeneratorOutput,
-    PatternGenerator,
-    SolveInfo,
-)
+from mpcwalk.generators.pattern_generator import GeneratorOutput, PatternGenerator, SolveInfo
 from mpcwalk.models.cart_table import CartTable
+from mpcwalk.models.com_state import ComState
 
 #: Back-ends that take sparse matrices (qpmpc's ``sparse`` flag, as its docs advise).
 _SPARSE_SOLVERS = ("osqp", "clarabel", "piqp", "highs", "scs", "qpalm", "proxqp")
@@ -80,13 +76,13 @@ class QpmpcPeer(PatternGenerator):
             self.state = measured.as_cart_table(default_acceleration=self.state[2])
         N = self.horizon
         times = t + self.sampling_period * np.arange(N)
-        Apoly, bpoly = self.schedule.halfplanes(times)
+        Apoly, bpoly = self.current_schedule.halfplanes(times)
         # Stage 0 is the current state, which no input can change: qpmpc would
         # turn a current ZMP off the polygon into an infeasible QP, so it is
         # left unconstrained (our MPC constrains samples 1..N, the same).
         C_list = [np.zeros((Apoly.shape[1], 6))] + [Apoly[k] @ self.Czmp for k in range(1, N)]
         e_list = [np.ones(Apoly.shape[1])] + [bpoly[k] - self.zmp_margin for k in range(1, N)]
-        ref = self.schedule.zmp_reference(times)  # qpmpc's stage k is x_k, k = 0..N-1
+        ref = self.current_schedule.zmp_reference(times)  # qpmpc's stage k is x_k, k = 0..N-1
         targets = np.zeros((N, 6))
         targets[:, 0], targets[:, 3] = ref[:, 0], ref[:, 1]
         x0 = self.state.T.reshape(6)  # [cx, vx, ax, cy, vy, ay]

@@ -13,7 +13,8 @@ import numpy as np
 
 from mpcwalk.exceptions import MpcwalkError
 from mpcwalk.footsteps.footstep import FootGeometry, StepTiming
-from mpcwalk.footsteps.velocity_planner import LegLimits, VelocityCommand, VelocityPlanner
+from mpcwalk.footsteps.leg_limits import LegLimits
+from mpcwalk.footsteps.velocity_planner import VelocityCommand, VelocityPlanner
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.support_margins import support_margins
 from mpcwalk.generators import make_generator, rollout

@@ -38,11 +38,46 @@ behind is what pulls the robot back.
 from collections.abc import Sequence
 
 import numpy as np
+import pinocchio as pin
 
+from mpcwalk.control.control_output import ControlOutput
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Side, wrap_angle
 from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.generators.pattern_generator import ComState, GeneratorOutput
+from mpcwalk.gait.swing_foot import FeetState
+from mpcwalk.generators.pattern_generator import GeneratorOutput
+from mpcwalk.models.com_state import ComState
+from mpcwalk.robot.sensors import Measurements
+
+
+def support_weights(zmp: np.ndarray, feet: FeetState) -> tuple[float, float]:
+    """Share of the weight on the left and right feet: all on the support foot in single
+    support, else by the position of ``zmp`` [m] along the segment between the feet."""
+    if not feet.left.in_contact:
+        return 0.0, 1.0
+    if not feet.right.in_contact:
+        return 1.0, 0.0
+    left, right = feet.left.position[:2], feet.right.position[:2]
+    axis = left - right
+    share = float(np.clip(np.dot(zmp - right, axis) / np.dot(axis, axis), 0.0, 1.0))
+    return share, 1.0 - share
+
+
+def measured_com_state(measurement: Measurements | ComState | None) -> ComState | None:
+    """CoM state of a measurement: the measured one (:meth:`Measurements.com_state`), the
+    ComState itself, or None.
+
+    Raises:
+        ConfigurationError: Anything else (a simulation state: pass its ``measurements``).
+    """
+    if measurement is None or isinstance(measurement, ComState):
+        return measurement
+    if isinstance(measurement, Measurements):
+        return measurement.com_state()
+    raise ConfigurationError(
+        "A measurement must be the robot's Measurements (a simulation state's "
+        f"`.measurements`), a ComState or None, got {type(measurement).__name__}."
+    )
 
 
 def shrink_polygon(vertices: np.ndarray, margin: float) -> np.ndarray:
@@ -108,7 +143,7 @@ class DcmFeedback:
         self.dcm_gain = _check_range("dcm_gain", dcm_gain, 0.0, np.inf)
         half_width = 0.5 * min(schedule.foot.length, schedule.foot.width)
         self.zmp_margin = _check_range("zmp_margin", zmp_margin, 0.0, half_width)
-        self._shrunk = {}  # phase index -> vertices of its support polygon, shrunk
+        self._shrunk: dict[int, np.ndarray] = {}  # phase index -> its polygon, shrunk
 
     def set_schedule(self, schedule: ContactSchedule) -> None:
         """Use the feet and polygons of ``schedule`` from now on (moved footsteps)."""
@@ -116,15 +151,24 @@ class DcmFeedback:
         self._shrunk.clear()
 
     def anchor(
-        self, measured: ComState, measurement, t: float, weights: Sequence[float]
+        self,
+        measured: ComState,
+        sole_positions: np.ndarray,
+        sole_yaws: np.ndarray,
+        t: float,
+        weights: Sequence[float],
     ) -> ComState:
         """The measured CoM state carried with the feet in contact at ``t`` onto their
-        planned poses, averaged with ``weights`` (left, right). Needs the measured sole poses
-        (``measurement`` a SimState); otherwise ``measured`` is returned unchanged."""
-        positions = getattr(measurement, "sole_positions", None)
-        yaws = getattr(measurement, "sole_yaws", None)
-        if positions is None or yaws is None:
-            return measured
+        planned poses, averaged with ``weights`` (left, right).
+
+        Args:
+            measured: Measured CoM state.
+            sole_positions: Measured left and right sole positions, shape (2, 3), in [m].
+            sole_yaws: Measured left and right sole yaws, shape (2,), in [rad].
+            t: Time of the measurement [s].
+            weights: Share of the weight on the left and right feet.
+        """
+        positions, yaws = sole_positions, sole_yaws
         planned = self.schedule.feet_on_ground(t)
         position, velocity, total = np.zeros(2), np.zeros(2), 0.0
         for index, (side, weight) in enumerate(zip((Side.LEFT, Side.RIGHT), weights)):
@@ -141,6 +185,22 @@ class DcmFeedback:
             return measured
         return ComState(position / total, velocity / total)
 
+    def observe(
+        self,
+        measured: ComState,
+        sensors: Measurements | None,
+        references: ControlOutput,
+        t: float,
+    ) -> tuple[ComState, np.ndarray]:
+        """Generator input and DCM error [m] of a measurement at ``t`` [s] against the
+        references of that time (the controller's last output): the measured CoM anchored to
+        the measured soles when ``sensors`` has them (weighted by :func:`support_weights` of
+        the desired ZMP), then :meth:`compare`."""
+        if sensors is not None:
+            weights = support_weights(references.zmp_command, references.feet)
+            measured = self.anchor(measured, sensors.sole_positions, sensors.sole_yaws, t, weights)
+        return self.compare(measured, references.generator)
+
     def compare(
         self, measured: ComState, reference: GeneratorOutput
     ) -> tuple[ComState, np.ndarray]:
@@ -154,6 +214,14 @@ class DcmFeedback:
             reference.com_acceleration,
         )
         return estimate, error_p + error_v / self.omega
+
+    def base_acceleration(self, q: np.ndarray, zmp_shift: np.ndarray) -> np.ndarray:
+        """Acceleration of the floating base [m/s^2], base frame, shape (3,), that moves the
+        CoP of the reference motion's contact wrench by ``zmp_shift`` [m] (LIPM: ``-omega^2``
+        times the shift), at the configuration ``q`` (base quaternion x, y, z, w)."""
+        rotation = pin.Quaternion(q[3:7]).normalized().matrix()
+        shift = -(self.omega**2) * np.array([zmp_shift[0], zmp_shift[1], 0.0])
+        return rotation.T @ shift
 
     def desired_zmp(self, t: float, zmp: np.ndarray, dcm_error: np.ndarray | None) -> np.ndarray:
         """The generator's ZMP at ``t`` plus the DCM feedback, inside the support polygon."""

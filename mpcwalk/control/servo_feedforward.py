@@ -25,11 +25,11 @@ moves the centre of pressure of that wrench: this is how a desired ZMP shift is 
 
 from collections.abc import Sequence
 
-import mujoco
 import numpy as np
 import pinocchio as pin
 
 from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.robot.robot import Robot
 
 _MIN_WEIGHT = 1e-3  # feet carrying less than this share of the wrench are left out
 
@@ -39,39 +39,25 @@ class ServoFeedforward:
 
     Args:
         robot: The robot; the stiffness, velocity gain and torque limit of each joint's
-            position actuator, and the passive joint damping, are read from its MuJoCo model
-            (joints without a position actuator get no offset).
+            position servo, and the passive joint damping, are its
+            :attr:`~mpcwalk.robot.robot.Robot.servo_gains` (joints without a position
+            actuator get no offset).
 
     Raises:
         ConfigurationError: The robot has no position actuator at all.
     """
 
-    def __init__(self, robot) -> None:
+    def __init__(self, robot: Robot) -> None:
         self.robot = robot
         self.model = robot.model
         self.data = robot.model.createData()
-        mj_model = robot.mj_model
-        nb_joints = len(robot.joint_names)
-        self.stiffness = np.full(nb_joints, np.inf)
+        gains = robot.servo_gains
+        self.stiffness = np.array(gains.stiffness)
         """Servo stiffness of each joint [N m/rad] (inf: no position actuator)."""
-        self.damping = np.zeros(nb_joints)
+        self.damping = np.array(gains.damping)
         """Servo velocity gain plus passive joint damping [N m s/rad]."""
-        self.torque_limit = np.full(nb_joints, np.inf)
+        self.torque_limit = np.array(gains.torque_limit)
         """Servo torque limit of each joint [N m]."""
-        index_of = {name: i for i, name in enumerate(robot.joint_names)}
-        for actuator in range(mj_model.nu):
-            joint = int(mj_model.actuator_trnid[actuator, 0])
-            name = mujoco.mj_id2name(mj_model, mujoco.mjtObj.mjOBJ_JOINT, joint)
-            kp = float(mj_model.actuator_gainprm[actuator, 0])
-            if name not in index_of or kp <= 0.0:
-                continue
-            i = index_of[name]
-            self.stiffness[i] = kp
-            self.damping[i] = -float(mj_model.actuator_biasprm[actuator, 2]) + float(
-                mj_model.dof_damping[mj_model.jnt_dofadr[joint]]
-            )
-            if mj_model.actuator_forcelimited[actuator]:
-                self.torque_limit[i] = float(np.max(np.abs(mj_model.actuator_forcerange[actuator])))
         if not np.any(np.isfinite(self.stiffness)):
             raise ConfigurationError(
                 f"Robot '{robot.name}' has no position actuator: the servo feed-forward needs "
@@ -102,7 +88,7 @@ class ServoFeedforward:
         weights: Sequence[float],
         v: np.ndarray | None = None,
         a: np.ndarray | None = None,
-    ):
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Joint torques [N m], shape (nq - 7,), and the contact wrenches of the left and
         right soles (force [N], moment [N m] in the sole frame, zero for a foot left out),
         shape (2, 6). Same arguments as :meth:`compute_torques`."""

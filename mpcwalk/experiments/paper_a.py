@@ -22,13 +22,15 @@ from pathlib import Path
 
 import numpy as np
 
-from mpcwalk.control.stabilizers import StabilizerChain
+from mpcwalk.control.stabilizers import Stabilizer, StabilizerChain
 from mpcwalk.control.stabilizers.ankle_imu import AnkleImuStabilizer
 from mpcwalk.control.stabilizers.paper_a import PaperAStateMachine
 from mpcwalk.footsteps.footstep import Side, wrap_angle
+from mpcwalk.robot.package_data import EXPERIMENT_DATA, package_data_dir
 from mpcwalk.walking import markdown
-from mpcwalk.walking.report import landing_check_times
-from mpcwalk.walking.runner import WalkResult, run_walk
+from mpcwalk.walking.metrics import landing_check_times
+from mpcwalk.walking.result import WalkResult
+from mpcwalk.walking.runner import run_walk
 
 #: Paper A's reported numbers (turning walk, Fig. 8): the row to beat.
 PAPER_A_ROW = {
@@ -43,7 +45,7 @@ PAPER_A_ROW = {
     "yaw_error_max_deg": 5.21,
 }
 
-EXPERIMENT_DIR = Path(__file__).resolve().parents[2] / "experiments" / "paper_a"
+EXPERIMENT_DIR = package_data_dir(EXPERIMENT_DATA) / "paper_a"
 
 
 @dataclass(frozen=True)
@@ -77,7 +79,7 @@ class ControllerSpec:
 #: static-qp on the large feet: CoM kept 4 cm and the ZMP 3 cm inside the polygon (the
 #: generator's 1 cm default is for the small humanoid), open loop (the observer feedback of
 #: the measured CoM made it fall: see results/paper_a/README.md).
-_STATIC_QP = dict(feedback=False, generator_options=(("com_margin", 0.04), ("zmp_margin", 0.03)))
+_STATIC_QP_OPTIONS = (("com_margin", 0.04), ("zmp_margin", 0.03))
 
 #: The comparison of the issue; the "fastest upright" timings come from the sweep in
 #: results/paper_a/README.md (the next faster timing tried fell on the straight path).
@@ -97,8 +99,21 @@ DEFAULT_SPECS: tuple[ControllerSpec, ...] = (
         ankle_imu=True,
         swing_profile="ctraj",
     ),
-    ControllerSpec("static-qp, 12 s", "static-qp", 12.0, **_STATIC_QP),
-    ControllerSpec("static-qp, fastest", "static-qp", 3.0, double_support_ratio=0.5, **_STATIC_QP),
+    ControllerSpec(
+        "static-qp, 12 s",
+        "static-qp",
+        12.0,
+        feedback=False,
+        generator_options=_STATIC_QP_OPTIONS,
+    ),
+    ControllerSpec(
+        "static-qp, fastest",
+        "static-qp",
+        3.0,
+        double_support_ratio=0.5,
+        feedback=False,
+        generator_options=_STATIC_QP_OPTIONS,
+    ),
     ControllerSpec("mpc, 1.0 s", "mpc", 1.0),
     ControllerSpec("mpc, 0.8 s", "mpc", 0.8),
     ControllerSpec("mpc, 0.6 s", "mpc", 0.6),
@@ -107,7 +122,7 @@ DEFAULT_SPECS: tuple[ControllerSpec, ...] = (
 
 def make_stabilizer(spec: ControllerSpec) -> StabilizerChain | None:
     """State machine (re-aiming) and, for paper A's gait, the ankle-IMU stabilizer."""
-    parts = []
+    parts: list[Stabilizer] = []
     if spec.reaim:
         parts.append(PaperAStateMachine(yaw_source="imu"))
     if spec.ankle_imu:
@@ -164,22 +179,20 @@ def table_row(spec: ControllerSpec, experiment: str, result: WalkResult) -> dict
         "controller": spec.label,
         "experiment": experiment,
         "generator": spec.generator,
-        "fell": m["fell"],
-        "fall_time_s": m["fall_time_s"],
+        "fell": m.fell,
+        "fall_time_s": m.fall_time_s,
         "step_duration_s": spec.step_duration,
         "double_support_ratio": spec.double_support_ratio,
-        "steps": f"{m['steps_completed']}/{m['steps_planned']}",
-        "total_time_s": m["time_simulated_s"],
-        "position_error_mean_cm": m["foot_position_error_cm_mean"],
-        "position_error_max_cm": m["foot_position_error_cm_max"],
-        "yaw_error_mean_deg": m["foot_yaw_error_deg_mean"],
-        "yaw_error_max_deg": m["foot_yaw_error_deg_max"],
-        "zmp_margin_min_cm": None
-        if m["zmp_margin_min_m"] is None
-        else 100.0 * m["zmp_margin_min_m"],
+        "steps": f"{m.steps_completed}/{m.steps_planned}",
+        "total_time_s": m.time_simulated_s,
+        "position_error_mean_cm": m.foot_position_error_cm_mean,
+        "position_error_max_cm": m.foot_position_error_cm_max,
+        "yaw_error_mean_deg": m.foot_yaw_error_deg_mean,
+        "yaw_error_max_deg": m.foot_yaw_error_deg_max,
+        "cop_margin_min_cm": None if m.cop_margin_min_m is None else 100.0 * m.cop_margin_min_m,
         "com_margin_min_cm": 100.0 * float(np.min(com_margin)),
-        "generator_tick_us": m["generator_tick_us_median"],
-        "controller_tick_us": m["controller_tick_us_median"],
+        "generator_tick_us": m.generator_tick_us_median,
+        "controller_tick_us": m.controller_tick_us_median,
     }
 
 
@@ -194,7 +207,7 @@ TABLE_COLUMNS = (
     ("position_error_max_cm", "pos. err. max [cm]", 2),
     ("yaw_error_mean_deg", "yaw err. mean [deg]", 2),
     ("yaw_error_max_deg", "yaw err. max [deg]", 2),
-    ("zmp_margin_min_cm", "min CoP margin [cm]", 1),
+    ("cop_margin_min_cm", "min CoP margin [cm]", 1),
     ("com_margin_min_cm", "min CoM margin [cm]", 1),
     ("generator_tick_us", "generator tick [us]", 0),
     ("controller_tick_us", "controller tick [us]", 0),
@@ -253,7 +266,7 @@ def run_paper_a(
     Returns:
         The table rows.
     """
-    from mpcwalk.walking.report import plot_walk_top_view
+    from mpcwalk.walking.figures import plot_walk_top_view
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

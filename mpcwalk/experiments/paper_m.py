@@ -8,7 +8,7 @@ The experiments (parameters in :class:`PaperMConfig`, read from
 1. turning walk (paper M Fig. 1): yaw after 3.5 s of walking and mean yaw rate
    (:func:`turning_summary`);
 2. disturbances F1, F2 (paper M Fig. 2): yaw deviation after F2 against the same walk without
-   pushes (:func:`mpcwalk.walking.report.yaw_deviation_deg`), with the stabilizer off and on;
+   pushes (:func:`mpcwalk.walking.metrics.yaw_deviation_deg`), with the stabilizer off and on;
 3. push recovery: largest impulse survived per direction and gait phase
    (:mod:`mpcwalk.experiments.push_sweep`);
 4. speed: the fastest forward walk without a fall (:func:`speed_search`).
@@ -21,10 +21,10 @@ import dataclasses
 import inspect
 import itertools
 import math
+import sys
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -38,8 +38,10 @@ from mpcwalk.experiments.push_sweep import (
     find_largest_survived,
 )
 from mpcwalk.footsteps.footstep import Side, wrap_angle
+from mpcwalk.robot.package_data import EXPERIMENT_DATA, package_data_dir
 from mpcwalk.sim import ExternalForce
-from mpcwalk.walking.runner import WalkResult, leg_limits, run_walk
+from mpcwalk.walking.result import WalkResult
+from mpcwalk.walking.runner import run_walk
 
 #: The controllers compared: name -> keyword arguments of :func:`mpcwalk.walking.runner.run_walk`.
 #: Names that this installation does not know (generator, stabilizer, argument) are skipped
@@ -64,7 +66,7 @@ CONTROLLERS: dict[str, dict[str, Any]] = {
 #: Experiment names of :func:`mpcwalk.experiments.paper_m_report.run_paper_m`.
 EXPERIMENTS = ("turning", "disturbance", "push", "speed")
 
-DEFAULT_CONFIG = Path(__file__).resolve().parents[2] / "experiments" / "paper_m" / "paper_m.toml"
+DEFAULT_CONFIG = package_data_dir(EXPERIMENT_DATA) / "paper_m" / "paper_m.toml"
 
 
 @dataclass(frozen=True)
@@ -144,7 +146,10 @@ def _section(cls, values: Mapping[str, Any], where: str):
 def load_config(path=DEFAULT_CONFIG, *, mode: str = "full") -> PaperMConfig:
     """Read the experiments' parameters from a TOML file; ``mode="quick"`` applies its
     ``[quick.*]`` tables over the others (the reduced grid)."""
-    import tomllib
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # the tomli package is tomllib before Python 3.11
+        import tomli as tomllib
 
     with open(path, "rb") as stream:
         data = tomllib.load(stream)
@@ -236,7 +241,7 @@ def turning_summary(result: WalkResult, config: TurningConfig) -> dict[str, Any]
     commanded = float(np.degrees(config.command[2]))
     return {
         "fell": bool(result.fall.fell),
-        "fall_time_s": result.metrics.get("fall_time_s"),
+        "fall_time_s": result.metrics.fall_time_s,
         "yaw_at_check_deg": yaw_at_check,
         "yaw_check_time_s": config.yaw_check_time,
         "yaw_rate_deg_s": rate,
@@ -258,11 +263,10 @@ def push_case_task(
 ) -> CaseResult:
     """Largest impulse survived by one controller in one direction and gait phase."""
     robot = worker_robot(robot_name)
-    gait = robot.preset.gait
     start = config.push_start(
         case.phase,
-        step_duration=float(gait.get("step_duration", 0.5)),
-        double_support_ratio=float(gait.get("double_support_ratio", 0.2)),
+        step_duration=robot.gait.step_duration,
+        double_support_ratio=robot.gait.double_support_ratio,
     )
     wall = time.perf_counter()
 
@@ -299,7 +303,7 @@ def speed_task(
     bisection up to the kinematic bound ``max_step_forward / T`` (the velocity planner
     refuses faster commands), and what limits it."""
     robot = worker_robot(robot_name)
-    bound = leg_limits(robot).max_step_forward / step_duration
+    bound = robot.leg_limits.max_step_forward / step_duration
     walks: dict[float, tuple[bool, str, float | None]] = {}
 
     def survives(vx: float) -> bool:
@@ -318,15 +322,10 @@ def speed_task(
             return False
         s = result.schedule
         t0, t1 = s.walk_start + s.step_duration, s.walk_end - s.step_duration
-        log = result.log
-        speed = (
-            float(
-                (np.interp(t1, log.time, log.com[:, 0]) - np.interp(t0, log.time, log.com[:, 0]))
-                / (t1 - t0)
-            )
-            if ok and t1 > t0
-            else None
-        )
+        speed = None
+        if ok and t1 > t0:
+            x0, x1 = np.interp([t0, t1], result.log.time, result.log.com[:, 0])
+            speed = float((x1 - x0) / (t1 - t0))
         walks[vx] = (ok, result.fall.reason, speed)
         return ok
 
@@ -335,7 +334,7 @@ def speed_task(
         survives, initial=bound, upper_limit=bound, tolerance=config.tolerance
     )
     best = found.largest_survived
-    if found.censored:
+    if found.censored or found.smallest_fallen is None:
         limit = "kinematic bound (vx T = max_step_forward)"
     else:
         limit = f"falls at {found.smallest_fallen:.3f} m/s ({walks[found.smallest_fallen][1]})"

@@ -2,16 +2,18 @@
 
 import math
 from collections.abc import Mapping, Sequence
+from typing import Any, cast
 
 import numpy as np
 
 from mpcwalk.experiments.push_sweep import CaseResult, PushSweepConfig, capture_impulse_bound
+from mpcwalk.walking.log import WalkLog
 
 _RPY = ("roll", "pitch", "yaw")
 
 
 def plot_attitude(
-    entries: Sequence[tuple[str, object]],
+    entries: Sequence[tuple[str, WalkLog]],
     *,
     title: str = "",
     pushes: Sequence = (),
@@ -89,11 +91,12 @@ def plot_push_polar(
     one line per controller, with the LIPM's capturability bounds (no step; one step landing
     ``step_time`` after the push) as references."""
     import matplotlib.pyplot as plt
+    from matplotlib.projections.polar import PolarAxes
 
     fig = plt.figure(figsize=(7, 6))
-    ax = fig.add_subplot(projection="polar")
+    ax = cast(PolarAxes, fig.add_subplot(projection="polar"))
     fine = np.linspace(0.0, 2.0 * math.pi, 361)
-    common = dict(
+    common: dict[str, Any] = dict(
         mass=mass,
         com_height=com_height,
         half_length=0.5 * sole_size[0],
@@ -173,8 +176,7 @@ def write_figures(
     import matplotlib.pyplot as plt
 
     from mpcwalk.experiments.parallel_walks import worker_robot
-    from mpcwalk.walking.report import plot_walk_top_view
-    from mpcwalk.walking.runner import leg_limits
+    from mpcwalk.walking.figures import plot_walk_top_view
 
     names = []
 
@@ -217,8 +219,8 @@ def write_figures(
     summary = results.get("push_sweep", {}).get("summary", {})
     if summary:
         robot = worker_robot(config.robot)
-        limits = leg_limits(robot)
-        step_time = 0.5 * float(robot.preset.gait.get("step_duration", 0.5))
+        limits = robot.leg_limits
+        step_time = 0.5 * robot.gait.step_duration
         save(
             plot_push_polar(
                 summary,

@@ -90,7 +90,7 @@ def run_tasks(
                 results[i] = function(*args)
                 bar.update(1)
             return results
-        from mpcwalk.bench.solvers.timed_pool import single_thread_environment
+        from mpcwalk.walking.processes import single_thread_environment
 
         context = multiprocessing.get_context("spawn")
         with ProcessPoolExecutor(

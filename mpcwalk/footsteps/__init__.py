@@ -9,6 +9,7 @@ from mpcwalk.footsteps.footstep import (
     rotation_2d,
     wrap_angle,
 )
+from mpcwalk.footsteps.leg_limits import LegLimits
 from mpcwalk.footsteps.mdat import (
     MDAT_FIELDS,
     PathTarget,
@@ -31,7 +32,6 @@ from mpcwalk.footsteps.reachability import (
     opening_side,
 )
 from mpcwalk.footsteps.velocity_planner import (
-    LegLimits,
     VelocityCommand,
     VelocityPlanner,
     integrate_torso,

@@ -195,7 +195,7 @@ def read_mdat(path_or_text: str | os.PathLike) -> list[PathWaypoint]:
         and (os.path.isfile(path_or_text) or path_or_text.strip().endswith(".mdat"))
     )
     if not is_file:
-        return parse_mdat(path_or_text)
+        return parse_mdat(str(path_or_text))
     try:
         text = Path(path_or_text).read_text()
     except OSError as error:

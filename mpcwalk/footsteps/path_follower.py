@@ -204,6 +204,6 @@ class PathFollower:
         return FootstepPlan(
             self.initial[Side.LEFT],
             self.initial[Side.RIGHT],
-            self.steps_taken,
+            tuple(self.steps_taken),
             timing if timing is not None else StepTiming(),
         )

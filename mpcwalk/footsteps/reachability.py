@@ -177,7 +177,7 @@ class ReachabilityRectangle:
         xy = support.to_world(local.xy)
         landing = Footstep(
             target.side,
-            [xy[0], xy[1], target.position[2]],
+            np.array([xy[0], xy[1], target.position[2]]),
             float(wrap_angle(support.yaw + local.yaw)),
         )
         if not local.was_clamped:

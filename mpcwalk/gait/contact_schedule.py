@@ -75,9 +75,9 @@ class ContactSchedule:
         # Polygons by foot pose (and pair of poses for a hull), and their padded half-planes.
         self._polygons: dict[tuple, SupportPolygon] = {}
         self._padded: dict[tuple, tuple] = {}
-        reused = reuse is not None and reuse.foot == foot
-        self._reused_polygons = reuse._polygons if reused else {}
-        self._reused_padded = reuse._padded if reused else {}
+        reused = reuse if reuse is not None and reuse.foot == foot else None
+        self._reused_polygons = reused._polygons if reused is not None else {}
+        self._reused_padded = reused._padded if reused is not None else {}
         timing = plan.timing
         self.step_duration = timing.step_duration
         self.t_b = timing.single_support_begin

@@ -9,6 +9,10 @@ normalised times ``s``:
     p(s) = p0 + r(s) (p1 - p0)
     R(s) = R0 exp(r(s) log(R0^T R1))
 
+``log`` and ``exp`` are those of SO(3) (rotation vectors), written here with
+numpy so that the gait layer runs without Pinocchio; a ``pinocchio.SE3`` is
+still accepted as a pose.
+
 With ``precision`` (paper A: the spacing the user wants between consecutive
 points, in [m]) the number of samples is chosen so that no two consecutive
 positions are farther apart than ``precision``. The quintic law moves at up
@@ -17,10 +21,10 @@ to 15/8 of its mean speed, so ``n = ceil(15/8 * distance / precision) + 1``
 """
 
 import math
+import sys
 from dataclasses import dataclass
 
 import numpy as np
-import pinocchio as pin
 
 from mpcwalk._checks import as_float, as_float_array
 from mpcwalk.exceptions import ConfigurationError
@@ -70,7 +74,8 @@ def as_homogeneous(pose, name: str = "pose") -> np.ndarray:
     Raises:
         ConfigurationError: If ``pose`` is not a rigid transform.
     """
-    if isinstance(pose, pin.SE3):
+    pinocchio = sys.modules.get("pinocchio")  # a pinocchio.SE3 implies pinocchio is loaded
+    if pinocchio is not None and isinstance(pose, pinocchio.SE3):
         return np.array(pose.homogeneous, dtype=float)
     matrix = np.array(as_float_array(pose))  # a copy: the caller's array stays theirs
     if matrix.shape != (4, 4) or not np.all(np.isfinite(matrix)):
@@ -93,6 +98,46 @@ def as_homogeneous(pose, name: str = "pose") -> np.ndarray:
             "Build it with pinocchio.SE3(R, p) or re-orthonormalise R."
         )
     return matrix
+
+
+def log3(rotation: np.ndarray) -> np.ndarray:
+    """Rotation vector (axis times angle in [0, pi], in [rad]) of a rotation matrix (3, 3),
+    through its unit quaternion (Shepperd's method: accurate at every angle, pi included)."""
+    R = np.asarray(rotation, dtype=float)
+    trace = np.trace(R)
+    k = int(np.argmax([R[0, 0], R[1, 1], R[2, 2], trace]))
+    if k == 3:
+        w = 0.5 * math.sqrt(1.0 + trace)
+        xyz = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]]) / (4.0 * w)
+    else:
+        i, j, m = k, (k + 1) % 3, (k + 2) % 3
+        xyz = np.zeros(3)
+        xyz[i] = 0.5 * math.sqrt(1.0 + 2.0 * R[i, i] - trace)
+        w = (R[m, j] - R[j, m]) / (4.0 * xyz[i])
+        xyz[j] = (R[j, i] + R[i, j]) / (4.0 * xyz[i])
+        xyz[m] = (R[m, i] + R[i, m]) / (4.0 * xyz[i])
+    if w < 0.0:  # the same rotation, the angle in [0, pi]
+        w, xyz = -w, -xyz
+    angle = 2.0 * math.atan2(float(np.linalg.norm(xyz)), w)
+    if angle > 1e-3:
+        scale = angle / math.sin(0.5 * angle)
+    else:  # series of angle / sin(angle / 2)
+        scale = 2.0 + angle**2 / 12.0 + 7.0 * angle**4 / 2880.0
+    return scale * xyz
+
+
+def exp3(rotation_vectors: np.ndarray) -> np.ndarray:
+    """Rotation matrices (..., 3, 3) of rotation vectors (..., 3) [rad] (Rodrigues)."""
+    w = np.asarray(rotation_vectors, dtype=float)
+    angle = np.linalg.norm(w, axis=-1)[..., None, None]
+    K = np.zeros(w.shape + (3,))
+    K[..., 0, 1], K[..., 0, 2], K[..., 1, 2] = -w[..., 2], w[..., 1], -w[..., 0]
+    K[..., 1, 0], K[..., 2, 0], K[..., 2, 1] = w[..., 2], -w[..., 1], w[..., 0]
+    small = angle < 1e-4
+    safe = np.where(small, 1.0, angle)
+    a = np.where(small, 1.0 - angle**2 / 6.0, np.sin(safe) / safe)  # sin(x) / x
+    b = np.where(small, 0.5 - angle**2 / 24.0, (1.0 - np.cos(safe)) / safe**2)
+    return np.eye(3) + a * K + b * (K @ K)
 
 
 def ctraj(T0, T1, n: int | None = None, *, precision: float | None = None) -> CartesianTrajectory:
@@ -136,10 +181,9 @@ def ctraj(T0, T1, n: int | None = None, *, precision: float | None = None) -> Ca
     timing = jtraj(0.0, 1.0, n)
     fraction = np.array(timing.q[:, 0])
     rotation0 = start[:3, :3]
-    axis_angle = pin.log3(rotation0.T @ end[:3, :3])
+    axis_angle = log3(rotation0.T @ end[:3, :3])
     poses = np.tile(np.eye(4), (n, 1, 1))
-    for i, r in enumerate(fraction):
-        poses[i, :3, :3] = rotation0 @ pin.exp3(r * axis_angle)
+    poses[:, :3, :3] = rotation0 @ exp3(fraction[:, None] * axis_angle)
     poses[:, :3, 3] = start[:3, 3] + fraction[:, None] * translation
     poses[0], poses[-1] = start, end
     s = np.array(timing.s)

@@ -13,7 +13,7 @@ from dataclasses import dataclass, fields
 from typing import Any
 
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.footsteps.velocity_planner import LegLimits
+from mpcwalk.footsteps.leg_limits import LegLimits
 
 _LEG_LIMIT_KEYS = (
     "max_step_forward",
@@ -78,8 +78,7 @@ class GaitDefaults:
             )
         if not 0.0 <= self.double_support_ratio < 1.0:
             raise ConfigurationError(
-                "[gait] double_support_ratio must be in [0, 1), got "
-                f"{self.double_support_ratio!r}"
+                f"[gait] double_support_ratio must be in [0, 1), got {self.double_support_ratio!r}"
             )
 
     @classmethod

@@ -15,6 +15,8 @@ functions return time derivatives ``d/dt = (1 / T) d/dphi`` when given the
 step duration ``T``, or ``d/dphi`` with the default ``step_duration=1``.
 """
 
+from typing import overload
+
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError
@@ -54,6 +56,10 @@ def _output(values: np.ndarray, phi) -> ArrayLike:
     return float(values) if np.ndim(phi) == 0 else values
 
 
+@overload
+def step_interpolation(phi: float, phi_b: float, phi_e: float) -> float: ...
+@overload
+def step_interpolation(phi: np.ndarray, phi_b: float, phi_e: float) -> np.ndarray: ...
 def step_interpolation(phi: ArrayLike, phi_b: float, phi_e: float) -> ArrayLike:
     """Paper M's ``h(phi)`` (eq. 20): 0 before single support, 1 after it.
 
@@ -73,6 +79,14 @@ def step_interpolation(phi: ArrayLike, phi_b: float, phi_e: float) -> ArrayLike:
     return _output(0.5 * (1.0 - np.cos(np.pi * ratio)), phi)
 
 
+@overload
+def step_interpolation_derivative(
+    phi: float, phi_b: float, phi_e: float, *, step_duration: float = ...
+) -> float: ...
+@overload
+def step_interpolation_derivative(
+    phi: np.ndarray, phi_b: float, phi_e: float, *, step_duration: float = ...
+) -> np.ndarray: ...
 def step_interpolation_derivative(
     phi: ArrayLike, phi_b: float, phi_e: float, *, step_duration: float = 1.0
 ) -> ArrayLike:
@@ -96,6 +110,10 @@ def step_interpolation_derivative(
     return _output(np.where(inside, rate, 0.0) / step_duration, phi)
 
 
+@overload
+def swing_height_profile(phi: float, phi_b: float, phi_e: float) -> float: ...
+@overload
+def swing_height_profile(phi: np.ndarray, phi_b: float, phi_e: float) -> np.ndarray: ...
 def swing_height_profile(phi: ArrayLike, phi_b: float, phi_e: float) -> ArrayLike:
     """Paper M's ``v(phi)`` (eq. 22-23): raised cosine over single support.
 
@@ -118,6 +136,14 @@ def swing_height_profile(phi: ArrayLike, phi_b: float, phi_e: float) -> ArrayLik
     return _output(np.where(inside, values, 0.0), phi)
 
 
+@overload
+def swing_height_profile_derivative(
+    phi: float, phi_b: float, phi_e: float, *, step_duration: float = ...
+) -> float: ...
+@overload
+def swing_height_profile_derivative(
+    phi: np.ndarray, phi_b: float, phi_e: float, *, step_duration: float = ...
+) -> np.ndarray: ...
 def swing_height_profile_derivative(
     phi: ArrayLike, phi_b: float, phi_e: float, *, step_duration: float = 1.0
 ) -> ArrayLike:

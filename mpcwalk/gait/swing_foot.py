@@ -171,7 +171,7 @@ class SwingFootTrajectory:
         """Torso yaw ``psi[k]`` at the start of each step (and after the last),
         shape (nb_steps + 1,), in [rad], unwrapped so that consecutive values
         differ by less than pi."""
-        yaws = []
+        yaws: list[float] = []
         for stance in self.schedule.plan.stances():
             left, right = stance[Side.LEFT].yaw, stance[Side.RIGHT].yaw
             mean = left + 0.5 * float(wrap_angle(right - left))

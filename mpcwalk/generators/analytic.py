@@ -23,12 +23,8 @@ import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.generators.pattern_generator import (
-    ComState,
-    GeneratorOutput,
-    Horizon,
-    PatternGenerator,
-)
+from mpcwalk.generators.pattern_generator import GeneratorOutput, Horizon, PatternGenerator
+from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
 
 
@@ -173,6 +169,8 @@ class ClosedFormStep:
             else:
                 val = grow + sign * decay
             out.append(w**n * val)
+        zmp: np.ndarray
+        zmp_rate: np.ndarray | float
         if first:
             zmp, zmp_rate = self.x_t0 + self.m_d1 * t, self.m_d1
         elif last:
@@ -314,7 +312,7 @@ class AnalyticGenerator(PatternGenerator):
             Shape (n, 3, 2): position [m], velocity [m]/[s] and acceleration
             [m]/[s]^2 of the CoM (x, y) at each time.
         """
-        sched = self.schedule
+        sched = self.current_schedule
         t = np.atleast_1d(np.asarray(times, dtype=float))
         out = np.zeros((len(t), 3, 2))
         N, T = len(self.steps), sched.step_duration
@@ -327,7 +325,7 @@ class AnalyticGenerator(PatternGenerator):
 
     def state_at(self, t: float) -> np.ndarray:
         """CoM state at one time, shape (3, 2) (fast path of :meth:`evaluate`)."""
-        sched = self.schedule
+        sched = self.current_schedule
         k = int(math.floor((t - sched.walk_start) / sched.step_duration))
         if not 0 <= k < len(self.steps):
             state = np.zeros((3, 2))
@@ -340,7 +338,7 @@ class AnalyticGenerator(PatternGenerator):
         return self._output(t, state, horizon=self._horizon(t))
 
     def _horizon(self, t: float) -> Horizon | None:
-        sched = self.schedule
+        sched = self.current_schedule
         if self.horizon_time is None:
             k = sched.step_index(t)
             if not 0 <= k < len(self.steps):

@@ -7,38 +7,20 @@ ZMP tracks paper M's polygonal reference (eq. 6-8) and is hard-constrained
 in the support polygon of each sample.
 """
 
-from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 
-from mpcwalk.exceptions import ConfigurationError, NoSolutionFound
 from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.generators.pattern_generator import (
-    ComState,
-    GeneratorOutput,
-    Horizon,
-    PatternGenerator,
-    SolveInfo,
-)
-from mpcwalk.models.cart_table import CartTable
+from mpcwalk.generators.pattern_generator import GeneratorOutput
+from mpcwalk.generators.receding_horizon import RecedingHorizonGenerator
+from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp.parameters import MpcParameters
-from mpcwalk.qp.result import QPResult
-from mpcwalk.qp.solvers.registry import make_solver
-from mpcwalk.qp.walking_qp import Prediction, WalkingQP
+from mpcwalk.qp.walking_qp import WalkingQP
 
 
-@dataclass(frozen=True)
-class _Plan:
-    """Jerks of the last successful solve, applied from ``start`` [s]."""
-
-    start: float
-    jerks: np.ndarray  # (N, 2) [m/s^3]
-    prediction: Prediction | None
-
-
-class MpcGenerator(PatternGenerator):
+class MpcGenerator(RecedingHorizonGenerator):
     """Wieber-style linear MPC: ZMP tracking with ZMP constraints.
 
     Args:
@@ -66,8 +48,10 @@ class MpcGenerator(PatternGenerator):
 
     A failed solve does not raise: the previous jerk sequence keeps being
     integrated from the generator's own state (the measured state is ignored
-    until a solve succeeds again), and the output's :class:`SolveInfo` says
-    ``fallback=True`` with the count of consecutive failures.
+    until a solve succeeds again), and the output's
+    :class:`~mpcwalk.generators.pattern_generator.SolveInfo` says
+    ``fallback=True`` with the count of consecutive failures (see
+    :mod:`mpcwalk.generators.receding_horizon`).
     """
 
     name: ClassVar[str] = "mpc"
@@ -102,20 +86,13 @@ class MpcGenerator(PatternGenerator):
     MPC diverges for a CoM height of 1.09 m (measured), while it changes the
     small humanoid's plan by less than 0.1 mm of ZMP margin."""
 
-    #: Keys of a robot preset's ``[gait]`` table -> (parameter, type).
-    PRESET_KEYS: ClassVar[dict] = {
+    #: The horizon and weights of a robot's walking defaults (``mpc_*`` fields of
+    #: :class:`~mpcwalk.gait.gait_defaults.GaitDefaults`) -> (parameter, type).
+    PRESET_KEYS: ClassVar[dict[str, tuple[str, type]]] = {
         "mpc_sampling_period": ("sampling_period", float),
         "mpc_horizon": ("horizon", int),
         "mpc_jerk_weight": ("jerk_weight", float),
     }
-
-    @classmethod
-    def robot_options(cls, robot) -> dict:
-        """The horizon and weights of the robot preset's ``[gait]`` table (``mpc_*`` keys)."""
-        gait = robot.preset.gait
-        return {
-            name: cast(gait[key]) for key, (name, cast) in cls.PRESET_KEYS.items() if key in gait
-        }
 
     def __init__(
         self,
@@ -130,33 +107,23 @@ class MpcGenerator(PatternGenerator):
         constrain_next_tick: bool = False,
         **overrides,
     ) -> None:
-        super().__init__(lipm=lipm, control_period=control_period)
         params = parameters if parameters is not None else self.default_parameters
         self.parameters = params.replace(**overrides) if overrides else params
-        if (
-            isinstance(max_fallback_ticks, bool)
-            or int(max_fallback_ticks) != max_fallback_ticks
-            or max_fallback_ticks < 0
-        ):
-            raise ConfigurationError(
-                f"max_fallback_ticks must be a non-negative integer, got {max_fallback_ticks!r}."
-            )
-        self.max_fallback_ticks = int(max_fallback_ticks)
         if solver is None:
             solver = "osqp-direct" if formulation == "sparse" else "daqp"
-        self.solver_name = solver
+        super().__init__(
+            lipm=lipm,
+            control_period=control_period,
+            sampling_period=self.parameters.sampling_period,
+            solver=solver,
+            solver_settings=solver_settings,
+            max_fallback_ticks=max_fallback_ticks,
+        )
         tick = None
         if constrain_next_tick and not np.isclose(control_period, self.parameters.sampling_period):
             tick = control_period
         self.qp = WalkingQP(lipm, self.parameters, formulation, control_period=tick)
-        self.solver = make_solver(solver, **(solver_settings or {}))
         self.solver.check(self.qp)
-        self.cart_table = CartTable(lipm, self.parameters.sampling_period)
-        self.last_result: QPResult | None = None
-        """Back-end result of the last tick (residuals, iterations)."""
-        self._state = np.zeros((3, 2))
-        self._plan: _Plan | None = None
-        self._failures = 0
 
     @property
     def formulation(self) -> str:
@@ -164,62 +131,23 @@ class MpcGenerator(PatternGenerator):
         return self.qp.formulation
 
     def _reset(self, schedule: ContactSchedule, initial_state: ComState) -> GeneratorOutput:
-        self.solver.reset()
-        self._state = initial_state.as_cart_table()
-        self._plan = None
-        self._failures = 0
-        self.last_result = None
+        self._restart(initial_state)
         return self._output(0.0, self._state)
 
     def _step(self, measured: ComState | None) -> GeneratorOutput:
-        t, dt = self.time, self.control_period
-        x0 = self._state if measured is None else measured.as_cart_table(self._state[2])
+        t, schedule = self.time, self.current_schedule
+        x0 = self._start_state(measured)
         velocity_reference = None
         if self.track_walking_velocity and self.parameters.velocity_weight:
-            velocity_reference = self.schedule.reference_velocity(t + self.qp.sample_offsets)
-        self.qp.update(x0, t, self.schedule, velocity_reference=velocity_reference)
+            velocity_reference = schedule.reference_velocity(t + self.qp.sample_offsets)
+        self.qp.update(x0, t, schedule, velocity_reference=velocity_reference)
         Ts = self.parameters.sampling_period
         shift = 0.0 if self._plan is None else (t - self._plan.start) / Ts
-        result = self.solver.solve(self.qp, shift=shift)
-        self.last_result = result
-        if result.success:
-            jerks = self.qp.jerks(result.x)
-            self._plan = _Plan(t, jerks, self.qp.predict(jerks))
-            self._failures = 0
-            self._state = self.cart_table.integrate(x0, jerks[0], dt)
-        else:
-            self._failures += 1
-            if self._failures > self.max_fallback_ticks:
-                raise NoSolutionFound(self.solver_name, result.status, problem=self.qp.problem())
-            self._state = self._follow_previous_plan(t, dt)
-        plan = self._plan
-        horizon = None
-        if plan is not None and plan.prediction is not None:
-            horizon = Horizon(plan.prediction.times, plan.prediction.com, plan.prediction.zmp)
-        info = SolveInfo(
-            success=result.success,
-            solver=self.solver_name,
-            status=result.status,
-            solve_time=result.solve_time,
-            fallback=not result.success,
-            consecutive_failures=self._failures,
+        info = self._solve(self.qp, x0, shift)
+        return self._output(
+            t + self.control_period, self._state, horizon=self._horizon(), solve=info
         )
-        return self._output(t + dt, self._state, horizon=horizon, solve=info)
 
-    def _follow_previous_plan(self, t: float, dt: float) -> np.ndarray:
-        """Integrate the previous jerk sequence over ``[t, t + dt]`` from the
-        generator's own state (zero jerk when there is no plan yet)."""
-        if self._plan is None:
-            return self.cart_table.integrate(self._state, np.zeros(2), dt)
-        Ts, plan, state = self.parameters.sampling_period, self._plan, self._state
-        end = t + dt
-        while t < end - 1e-12:
-            i = int(np.floor((t - plan.start) / Ts + 1e-9))
-            boundary = plan.start + (i + 1) * Ts
-            if boundary <= t + 1e-12:
-                i, boundary = i + 1, boundary + Ts
-            step = min(end, boundary) - t
-            jerk = plan.jerks[min(max(i, 0), len(plan.jerks) - 1)]
-            state = self.cart_table.integrate(state, jerk, step)
-            t += step
-        return state
+    def _advance(self, x0: np.ndarray, jerks: np.ndarray, t: float, dt: float) -> np.ndarray:
+        """The first jerk of the new plan over one control period."""
+        return self.cart_table.integrate(x0, jerks[0], dt)

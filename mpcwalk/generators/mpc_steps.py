@@ -8,13 +8,9 @@ minimum feet separation). Sides, timing and yaws are the plan's, so every constr
 linear. Departure from Herdt: a cost pulls each footstep towards the plan, so that an
 undisturbed walk steps on it.
 
-Support of a sample between feet A and B (``lam``: share of B; single support: A = B):
-in double support ``lam`` runs from 0 to 1 (0.5 at the step boundary, where paper M's
-reference passes the feet midpoint); before and after the walk it is 0.5. With both feet
-fixed the ZMP stays in the hull of the soles (as the fixed-footstep MPC); with a footstep
-variable, in the sole-sized rectangle of :func:`~mpcwalk.qp.footstep_qp.blended_rectangles`
-centred at ``(1 - lam) A + lam B``, inside that hull for any positions. The ZMP cost pulls
-to the same centre (paper M's polygonal reference, eq. 6-8, on the variable footsteps).
+Which footsteps support each sample, and how far each landing may move, is the geometry of
+:class:`~mpcwalk.qp.footstep_supports.FootstepSlots`; the solve, the plan and the fallback
+are the receding-horizon core of :mod:`mpcwalk.generators.receding_horizon`.
 
 Footsteps given to the controller (:attr:`GeneratorOutput.schedule`): landed feet and the
 support foot never move; the swing foot's landing is frozen ``freeze_before_landing``
@@ -23,45 +19,28 @@ before touch-down; a schedule is published when the next landing moved by more t
 published positions and the generator and the controller agree on every support polygon.
 """
 
-from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
-from mpcwalk.exceptions import ConfigurationError, InfeasibleStep, NoSolutionFound
-from mpcwalk.footsteps.footstep import Side, wrap_angle
+from mpcwalk.exceptions import ConfigurationError, NotReset
+from mpcwalk.footsteps.leg_limits import LegLimits
 from mpcwalk.footsteps.reachability import ReachabilityRectangle
-from mpcwalk.footsteps.velocity_planner import LegLimits
-from mpcwalk.gait.contact_schedule import MAX_POLYGON_EDGES, ContactSchedule
-from mpcwalk.generators.pattern_generator import (
-    ComState,
-    GeneratorOutput,
-    Horizon,
-    PatternGenerator,
-    SolveInfo,
-)
-from mpcwalk.models.cart_table import CartTable
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.gait.gait_defaults import GaitDefaults
+from mpcwalk.generators.pattern_generator import GeneratorOutput
+from mpcwalk.generators.receding_horizon import RecedingHorizonGenerator
+from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
-from mpcwalk.qp.footstep_parameters import FootstepMpcParameters, blended_rectangles
-from mpcwalk.qp.footstep_qp import FootstepQP, SampleSupports, StepVariables
-from mpcwalk.qp.result import QPResult
-from mpcwalk.qp.solvers.registry import QpsolversSolver, make_solver, solver_names
+from mpcwalk.qp.footstep_parameters import FootstepMpcParameters
+from mpcwalk.qp.footstep_qp import FootstepQP
+from mpcwalk.qp.footstep_supports import FootstepSlots
 
 _BOUNDARY_EPS = 1e-9  # [s] a sample on a phase boundary belongs to the new phase
-_REACH_TOLERANCE = 1e-6  # [m], [rad] nominal steps may touch the rectangle's edges
 FOOTSTEP_REFERENCES = ("relative", "absolute")
 
 
-@dataclass(frozen=True)
-class _Plan:
-    """Jerk ``i`` of the last successful solve applies over ``[knots[i], knots[i + 1])``."""
-
-    knots: np.ndarray  # (N + 1,) [s]: solve time, then the sample times
-    jerks: np.ndarray  # (N, 2) [m/s^3]
-    horizon: Horizon
-
-
-class FootstepMpcGenerator(PatternGenerator):
+class FootstepMpcGenerator(RecedingHorizonGenerator):
     """Linear MPC that also places the next footsteps (Herdt et al. 2010).
 
     Args:
@@ -72,12 +51,11 @@ class FootstepMpcGenerator(PatternGenerator):
             ``jerk_weight``... as for the ``mpc`` generator).
         reachability: Landings allowed relative to the previous footstep: a
             :class:`ReachabilityRectangle`, or :class:`LegLimits` (its rectangle); default
-            ``LegLimits()``; ``mpcwalk.walking.runner.leg_limits(robot)`` gives a robot's (see
-            :meth:`for_robot`).
+            ``LegLimits()``; :meth:`for_robot` takes the robot's.
         solver: A ``qpsolvers`` name. Default ``"quadprog"``: median tick 0.84 ms (solver
             0.18 ms) against 1.16 ms (0.47 ms) with ``"daqp"`` on a 10-step walk, same
             plans. The QP is dense and rebuilt every tick, so ``"osqp-direct"``, ``"kkt"``
-            and CasADi do not apply.
+            and CasADi do not apply (their check refuses it).
         solver_settings: Keyword settings of the back-end.
         footstep_reference: ``"absolute"`` (default): the cost pulls each footstep towards
             its planned position (after a push the walk returns to the plan);
@@ -92,7 +70,7 @@ class FootstepMpcGenerator(PatternGenerator):
             followed meanwhile, the measurement ignored), then NoSolutionFound.
         dcm_step_gain: Capture-point stepping on top of the QP: each footstep's target in
             the cost moves by this gain times the DCM error a closed-loop controller
-            reports (:meth:`observe_dcm_error`), grown until the landing,
+            reports (``step(measured, dcm_error=...)``), grown until the landing,
             ``error * exp(omega * (t_landing - t))``. The QP itself starts from the state
             the controller passes, which on position servos is only a small share of the
             measured error (see :mod:`mpcwalk.control.dcm_feedback`); this term lets the steps see
@@ -106,6 +84,7 @@ class FootstepMpcGenerator(PatternGenerator):
 
     Raises:
         InfeasibleStep: (at :meth:`reset`) a planned step outside the rectangle.
+        ConfigurationError: A solver that cannot take the dense QP.
     """
 
     name: ClassVar[str] = "mpc-steps"
@@ -120,6 +99,13 @@ class FootstepMpcGenerator(PatternGenerator):
     swing foot by 5.5 / 22 / 60 mm (the reach limit). A ZMP weight of 10 leaves the ZMP
     5.8 mm inside the feet and stepped to the limit for 0.15 m/s; a footstep weight of 10
     let the steps drift 4.5 mm from the plan."""
+
+    #: The horizon of a robot's walking defaults (not ``mpc_jerk_weight``, whose scale
+    #: differs in this cost) -> (parameter, type); :meth:`robot_options` adds its leg limits.
+    PRESET_KEYS: ClassVar[dict[str, tuple[str, type]]] = {
+        "mpc_sampling_period": ("sampling_period", float),
+        "mpc_horizon": ("horizon", int),
+    }
 
     def __init__(
         self,
@@ -138,7 +124,6 @@ class FootstepMpcGenerator(PatternGenerator):
         dcm_deadband: float = 0.005,
         **overrides,
     ) -> None:
-        super().__init__(lipm=lipm, control_period=control_period)
         if not (np.isfinite(dcm_step_gain) and dcm_step_gain >= 0.0):
             raise ConfigurationError(
                 f"dcm_step_gain must be a non-negative number, got {dcm_step_gain!r}; 1 "
@@ -150,7 +135,6 @@ class FootstepMpcGenerator(PatternGenerator):
                 f"dcm_deadband must be a non-negative distance [m], got {dcm_deadband!r}."
             )
         self.dcm_deadband = float(dcm_deadband)
-        self._dcm_error = np.zeros(2)
         params = parameters if parameters is not None else self.default_parameters
         self.parameters = params.replace(**overrides) if overrides else params
         if reachability is None:
@@ -177,306 +161,93 @@ class FootstepMpcGenerator(PatternGenerator):
                 raise ConfigurationError(f"{label} must be a non-negative number, got {value!r}.")
         self.freeze_before_landing = float(freeze_before_landing)
         self.publish_tolerance = float(publish_tolerance)
-        if (
-            isinstance(max_fallback_ticks, bool)
-            or int(max_fallback_ticks) != max_fallback_ticks
-            or max_fallback_ticks < 0
-        ):
-            raise ConfigurationError(
-                f"max_fallback_ticks must be a non-negative integer, got {max_fallback_ticks!r}."
-            )
-        self.max_fallback_ticks = int(max_fallback_ticks)
-        self.solver_name = solver
-        self.solver = make_solver(solver, **(solver_settings or {}))
-        if not isinstance(self.solver, QpsolversSolver):
-            names = [
-                s
-                for s in solver_names()
-                if s not in ("osqp-direct", "kkt") and not s.startswith("casadi")
-            ]
-            raise ConfigurationError(
-                f"Generator 'mpc-steps' solves its dense QP through qpsolvers; solver "
-                f"'{solver}' is not one of them. Choose one of {', '.join(names)}."
-            )
-        self.cart_table = CartTable(lipm, self.parameters.sampling_period)
+        super().__init__(
+            lipm=lipm,
+            control_period=control_period,
+            sampling_period=self.parameters.sampling_period,
+            solver=solver,
+            solver_settings=solver_settings,
+            max_fallback_ticks=max_fallback_ticks,
+        )
+        # The footstep variables are known at reset; the back-end's check needs the class
+        # of QP only (dense, rebuilt every tick).
+        self.solver.check(FootstepQP(lipm, self.parameters, nb_footsteps=1))
         self.qp: FootstepQP | None = None
-        self.last_result: QPResult | None = None
-        """Back-end result of the last tick."""
         self.nb_publications = 0
         """Schedules published since the last reset."""
-        self._state = np.zeros((3, 2))
-        self._plan: _Plan | None = None
-        self._failures = 0
+        self._slots: FootstepSlots | None = None
 
     @classmethod
-    def robot_options(cls, robot) -> dict:
-        """The robot's leg limits, and the horizon of its preset's ``[gait]`` table
-        (``mpc_sampling_period``, ``mpc_horizon``; not ``mpc_jerk_weight``, whose scale
-        differs in this cost)."""
-        from mpcwalk.generators.mpc import MpcGenerator
-        from mpcwalk.walking.runner import leg_limits  # the robot layer sits above the generators
-
-        options = {
-            key: value
-            for key, value in MpcGenerator.robot_options(robot).items()
-            if key != "jerk_weight"
-        }
-        options["reachability"] = leg_limits(robot)
+    def robot_options(cls, *, gait: GaitDefaults, leg_limits: LegLimits) -> dict[str, Any]:
+        """The robot's leg limits (``reachability``), and the horizon of its walking
+        defaults (``mpc_sampling_period``, ``mpc_horizon``)."""
+        options = super().robot_options(gait=gait, leg_limits=leg_limits)
+        options["reachability"] = leg_limits
         return options
-
-    @classmethod
-    def for_robot(cls, robot, **options) -> "FootstepMpcGenerator":
-        """Generator with the robot's CoM height, leg limits and preset horizon (``options``
-        override)."""
-        return cls(
-            **{"lipm": LIPM(com_height=robot.com_height), **cls.robot_options(robot), **options}
-        )
 
     # ------------------------------------------------------------------ reset
     def _reset(self, schedule: ContactSchedule, initial_state: ComState) -> GeneratorOutput:
-        plan = schedule.plan
-        self._nominal_schedule = schedule
-        self._nb = nb = plan.nb_steps
-        feet = [plan.initial_left, plan.initial_right, *plan.steps]
-        self._feet = feet
-        self._nominal = np.array([f.xy for f in feet]).reshape(-1, 2)
-        self._positions = self._nominal.copy()
-        self._yaws = np.array([f.yaw for f in feet])
-        # Slots: 0 and 1 the initial left and right feet, 2 + k the landing of step k.
-        # _sup[k]: the support foot of step k; _lift[k]: its swing foot before lift-off.
-        init = {Side.LEFT: 0, Side.RIGHT: 1}
-        sides = [s.side for s in plan.steps]
-        self._sup = np.array([2 + k - 1 if k else init[sides[0].other] for k in range(nb)], int)
-        self._lift = np.array([2 + k - 2 if k >= 2 else init[sides[k]] for k in range(nb)], int)
-        self._bounds = [self.reachability.bounds(side) for side in sides]
-        self._check_plan()
-        self._landing = schedule.walk_start + np.arange(nb) * schedule.step_duration + schedule.t_e
+        slots = FootstepSlots(schedule, self.reachability)
+        slots.check_reachable()
+        self._slots = slots
         p = self.parameters
         nf = int(np.ceil(p.duration / schedule.step_duration)) + 1
         if self.qp is None or self.qp.nf != nf:
             self.qp = FootstepQP(self.lipm, p, nf)
-        self._tabulate(schedule)
-        self.solver.reset()
-        self._state = initial_state.as_cart_table()
-        self._plan, self._failures, self.last_result = None, 0, None
+        self._restart(initial_state)
         self.nb_publications = 0
         return self._output(0.0, self._state)
 
-    def _check_plan(self) -> None:
-        """Every planned step must lie in the rectangle of its support foot."""
-        for k in range(self._nb):
-            p, slot = self._sup[k], 2 + k
-            yaw = self._yaws[p]
-            R = np.array([[np.cos(yaw), np.sin(yaw)], [-np.sin(yaw), np.cos(yaw)]])
-            local = np.append(
-                R @ (self._nominal[slot] - self._nominal[p]), wrap_angle(self._yaws[slot] - yaw)
-            )
-            lower, upper = self._bounds[k]
-            if np.any(local < lower - _REACH_TOLERANCE) or np.any(local > upper + _REACH_TOLERANCE):
-                raise InfeasibleStep(
-                    f"Planned step {k} ({self._feet[slot].side.value} foot) lands at "
-                    f"(x, y, yaw) = ({local[0]:.4f} m, {local[1]:.4f} m, {local[2]:.4f} rad) in "
-                    f"its support foot's frame, outside the reachability rectangle "
-                    f"({self.reachability.describe()}). Widen the rectangle (reachability=) "
-                    "or plan the footsteps within it (VelocityPlanner with the same LegLimits)."
-                )
-
-    def _tabulate(self, schedule: ContactSchedule) -> None:
-        """Half-planes of the schedule's phases, padded, with a mask of the real rows."""
-        E = MAX_POLYGON_EDGES
-        nph = len(schedule.phases)
-        self._phase_A, self._phase_b = np.zeros((nph, E, 2)), np.zeros((nph, E))
-        self._phase_rows = np.zeros((nph, E), bool)
-        for i, phase in enumerate(schedule.phases):
-            k = len(phase.polygon.b)
-            self._phase_A[i, :k], self._phase_b[i, :k] = phase.polygon.A, phase.polygon.b
-            self._phase_rows[i, :k] = True
-
     # ------------------------------------------------------------------ tick
     def _step(self, measured: ComState | None) -> GeneratorOutput:
-        t, dt, qp = self.time, self.control_period, self.qp
-        x0 = self._state if measured is None else measured.as_cart_table(self._state[2])
+        t, qp, slots = self.time, self.qp, self._slots
+        if qp is None or slots is None:  # pragma: no cover - step() checks reset()
+            raise NotReset("FootstepMpcGenerator stepped before reset().")
+        x0 = self._start_state(measured)
         times = qp.sample_times_at(t)
-        steps_k, variable = self._variables(t, times[-1])
-        supports = self._supports(qp.constraint_times(t), variable)
-        steps = self._step_variables(steps_k, variable)
-        qp.update(x0, t, self._nominal_schedule.reference_velocity(times), supports, steps)
+        steps_k, variable = slots.free_steps(t, times[-1], self.freeze_before_landing)
+        supports = slots.supports(qp.constraint_times(t), variable, qp.nf)
+        offset = np.zeros(2)
+        if len(steps_k):
+            offset = self._capture_offset(t, float(slots.landing[steps_k[0]]))
+        steps = slots.step_variables(
+            steps_k,
+            variable,
+            qp.nf,
+            absolute=self.footstep_reference == "absolute",
+            offset=offset,
+        )
+        qp.update(x0, t, slots.nominal_schedule.reference_velocity(times), supports, steps)
         shift = (
             0.0
             if self._plan is None
-            else float(np.searchsorted(self._plan.knots[1:], times[0] - _BOUNDARY_EPS))
+            else float(np.searchsorted(self._plan.prediction.times, times[0] - _BOUNDARY_EPS))
         )
-        result = self.solver.solve(qp, shift=shift)
-        self.last_result = result
+        info = self._solve(qp, x0, shift)
         published = None
-        if result.success:
-            jerks = qp.jerks(result.x)
-            com, zmp = qp.predict(jerks)
-            self._plan = _Plan(np.append(t, times), jerks, Horizon(times, com, zmp))
-            self._failures = 0
-            self._state = self._follow_plan(x0, t, dt)
-            if len(steps_k):
-                published = self._publish(steps_k, qp.footsteps(result.x)[: len(steps_k)])
-        else:
-            self._failures += 1
-            if self._failures > self.max_fallback_ticks:
-                raise NoSolutionFound(self.solver_name, result.status, problem=qp.problem())
-            self._state = self._follow_plan(self._state, t, dt)
-        info = SolveInfo(
-            success=result.success,
-            solver=self.solver_name,
-            status=result.status,
-            solve_time=result.solve_time,
-            fallback=not result.success,
-            consecutive_failures=self._failures,
+        result = self.last_result
+        if info.success and len(steps_k) and result is not None and result.x is not None:
+            footsteps = qp.footsteps(result.x)[: len(steps_k)]
+            published = slots.publish(steps_k, footsteps, self.publish_tolerance)
+            if published is not None:
+                self.schedule = published
+                self.nb_publications += 1
+        return self._output(
+            t + self.control_period,
+            self._state,
+            horizon=self._horizon(),
+            solve=info,
+            schedule=published,
         )
-        horizon = None if self._plan is None else self._plan.horizon
-        return self._output(t + dt, self._state, horizon=horizon, solve=info, schedule=published)
-
-    def _variables(self, t: float, last_sample: float):
-        """Steps whose landing is free this tick (not frozen, within the horizon), and the
-        variable index of every slot (-1: fixed)."""
-        free = (t < self._landing - self.freeze_before_landing - _BOUNDARY_EPS) & (
-            self._landing <= last_sample + _BOUNDARY_EPS
-        )
-        steps_k = np.flatnonzero(free)
-        variable = np.full(self._nb + 2, -1)
-        variable[2 + steps_k] = np.arange(len(steps_k))
-        return steps_k, variable
-
-    def _slots(self, times: np.ndarray):
-        """Feet A and B (slots) of each sample and the share ``lam`` of B in its support."""
-        sched, nb = self._nominal_schedule, self._nb
-        T, t_b, t_e = sched.step_duration, sched.t_b, sched.t_e
-        rel = times + _BOUNDARY_EPS - sched.walk_start
-        k = np.floor(rel / T).astype(int)
-        n = len(times)
-        A, B, lam = np.zeros(n, int), np.ones(n, int), np.full(n, 0.5)
-        if nb:
-            A[:], B[:] = self._lift[0], self._sup[0]  # before the walk: both initial feet
-            after = k >= nb
-            A[after], B[after] = self._sup[-1], 2 + nb - 1
-            walk = (rel >= 0.0) & ~after
-            kw = k[walk]
-            tau = rel[walk] - kw * T
-            a, b, w = self._sup[kw].copy(), self._sup[kw].copy(), np.zeros(len(kw))
-            opening, closing = tau < t_b, tau >= t_e
-            a[opening] = self._lift[kw[opening]]
-            if t_b > 0.0:
-                w[opening] = 0.5 + 0.5 * tau[opening] / t_b
-            if t_e < T:
-                b[closing] = 2 + kw[closing]
-                w[closing] = 0.5 * (tau[closing] - t_e) / (T - t_e)
-            A[walk], B[walk], lam[walk] = a, b, w
-        return A, B, lam
-
-    def _supports(self, times: np.ndarray, variable: np.ndarray) -> SampleSupports:
-        """ZMP constraints and centres at ``times``: the published polygons where both
-        feet are fixed, blended rectangles on the footstep variables elsewhere."""
-        nf = self.qp.nf
-        A, B, lam = self._slots(times)
-        va, vb = variable[A], variable[B]
-        pos = self._positions
-        centres = np.where(va[:, None] < 0, (1.0 - lam)[:, None] * pos[A], 0.0) + np.where(
-            vb[:, None] < 0, lam[:, None] * pos[B], 0.0
-        )
-        weights = np.zeros((len(times), nf + 1))  # last column: the fixed feet, dropped
-        samples = np.arange(len(times))
-        np.add.at(weights, (samples, np.where(va >= 0, va, nf)), 1.0 - lam)
-        np.add.at(weights, (samples, np.where(vb >= 0, vb, nf)), lam)
-        weights = weights[:, :nf]
-        moving = np.flatnonzero((va >= 0) | (vb >= 0))
-        idx = self.schedule.phase_index(times + _BOUNDARY_EPS)
-        normals, offsets = self._phase_A[idx].copy(), self._phase_b[idx].copy()
-        rows = self._phase_rows[idx].copy()
-        if len(moving):
-            n, half = blended_rectangles(
-                self._yaws[A[moving]], self._yaws[B[moving]], lam[moving], self.schedule.foot
-            )
-            normals[moving] = 0.0
-            offsets[moving] = 0.0
-            rows[moving] = False
-            normals[moving, :4] = n
-            offsets[moving, :4] = half + np.einsum("kra,ka->kr", n, centres[moving])
-            rows[moving, :4] = True
-        return SampleSupports(normals, offsets, rows, weights, centres)
-
-    def _step_variables(self, steps_k: np.ndarray, variable: np.ndarray) -> StepVariables:
-        """Reference and reach of the footstep variables (steps ``steps_k``)."""
-        nf = self.qp.nf
-        active = np.zeros(nf, bool)
-        M, r = np.eye(nf), np.zeros((nf, 2))
-        pred = np.full(nf, -1)
-        pred_xy, pred_yaw = np.zeros((nf, 2)), np.zeros(nf)
-        lower, upper = np.full((nf, 2), -1.0), np.ones((nf, 2))
-        initial = np.zeros((nf, 2))
-        offset = np.zeros(2)
-        if len(steps_k):
-            offset = self._capture_offset(self.time, float(self._landing[steps_k[0]]))
-        for j, k in enumerate(steps_k):
-            p = self._sup[k]
-            active[j] = True
-            pred[j], pred_xy[j], pred_yaw[j] = variable[p], self._positions[p], self._yaws[p]
-            lower[j], upper[j] = self._bounds[k][0][:2], self._bounds[k][1][:2]
-            initial[j] = self._positions[2 + k]
-            if self.footstep_reference == "absolute":
-                r[j] = self._nominal[2 + k] + offset
-            else:
-                r[j] = self._nominal[2 + k] - self._nominal[p]
-                if variable[p] >= 0:
-                    M[j, variable[p]] = -1.0
-                else:
-                    r[j] += self._positions[p]
-        return StepVariables(active, M, r, pred, pred_xy, pred_yaw, lower, upper, initial)
-
-    def observe_dcm_error(self, error: np.ndarray) -> None:
-        self._dcm_error = np.asarray(error, dtype=float)
 
     def _capture_offset(self, t: float, first_landing: float) -> np.ndarray:
-        """Capture-point stepping: where the reported DCM error, beyond ``dcm_deadband``,
-        will have grown by the next free landing if nothing is done,
-        ``dcm_step_gain * error * exp(omega * (t_landing - t))``; every free footstep's
-        target moves by it (the walk goes on from the displaced step)."""
-        norm = float(np.linalg.norm(self._dcm_error))
+        """Capture-point stepping: where the DCM error of this tick (:attr:`dcm_error`),
+        beyond ``dcm_deadband``, will have grown by the next free landing if nothing is
+        done, ``dcm_step_gain * error * exp(omega * (t_landing - t))``; every free
+        footstep's target moves by it (the walk goes on from the displaced step)."""
+        norm = float(np.linalg.norm(self.dcm_error))
         if not self.dcm_step_gain or norm <= self.dcm_deadband:
             return np.zeros(2)
-        error = self._dcm_error * (1.0 - self.dcm_deadband / norm)
+        error = self.dcm_error * (1.0 - self.dcm_deadband / norm)
         growth = np.exp(self.lipm.omega * max(first_landing - t, 0.0))
         return self.dcm_step_gain * growth * error
-
-    def _publish(self, steps_k: np.ndarray, footsteps: np.ndarray) -> ContactSchedule | None:
-        """Publish a schedule with the new footsteps when the next landing moved by more
-        than the tolerance (the ones after it may lag: they are published with it, and the
-        next landing is the one frozen). Steps after the horizon keep their planned
-        displacements from the last variable one, so that the published plan stays
-        reachable (with the absolute reference the QP pulls them back once in the horizon)."""
-        slots = 2 + steps_k
-        if np.linalg.norm(footsteps[0] - self._positions[slots[0]]) <= self.publish_tolerance:
-            return None
-        positions = self._positions.copy()
-        positions[slots] = footsteps
-        last = slots[-1]  # later steps keep their planned displacements: reachable
-        positions[last + 1 :] = self._nominal[last + 1 :] + (footsteps[-1] - self._nominal[last])
-        steps = list(self.schedule.plan.steps)
-        for k in np.flatnonzero(np.any(positions[2:] != self._positions[2:], axis=1)):
-            steps[k] = steps[k].moved(position=[*positions[2 + k], steps[k].position[2]])
-        self.schedule = self.schedule.with_steps(steps)
-        self._positions = positions
-        self._tabulate(self.schedule)
-        self.nb_publications += 1
-        return self.schedule
-
-    def _follow_plan(self, state: np.ndarray, t: float, dt: float) -> np.ndarray:
-        """Integrate the jerks of the last plan exactly over ``[t, t + dt]`` from ``state``
-        (zero jerk without a plan; the last jerk is held after the horizon)."""
-        if self._plan is None:
-            return self.cart_table.integrate(state, np.zeros(2), dt)
-        knots, jerks, end = self._plan.knots, self._plan.jerks, t + dt
-        while t < end - 1e-12:
-            i = np.searchsorted(knots, t + 1e-12, side="right") - 1
-            i = int(np.clip(i, 0, len(jerks) - 1))
-            boundary = knots[i + 1] if i + 1 < len(knots) else end
-            step = min(end, boundary) - t if boundary > t + 1e-12 else end - t
-            state = self.cart_table.integrate(state, jerks[i], step)
-            t += step
-        return state

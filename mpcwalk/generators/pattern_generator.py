@@ -1,62 +1,31 @@
 """The one protocol every CoM/ZMP pattern generator answers.
 
 A generator is reset with a :class:`~mpcwalk.gait.ContactSchedule` (footsteps
-and timing) and an initial CoM state, then stepped once per control period.
-Each step may receive the measured CoM state: closed-loop generators (preview
-control, MPC) start their prediction from it, open-loop ones (closed forms)
-ignore it. Every step returns a :class:`GeneratorOutput`.
+and timing) and an initial CoM state, then stepped once per control period with
+one input: the measured CoM state (closed-loop generators, preview control and
+MPC, start their prediction from it; open-loop ones, the closed forms, ignore it)
+and the DCM error a closed-loop controller measured (footstep-adaptive generators
+use it). Every step returns a :class:`GeneratorOutput`. The generator owns its
+clock: :meth:`PatternGenerator.step` and :meth:`PatternGenerator.coast` advance it.
 """
 
 import time
 from abc import ABC, abstractmethod
-from dataclasses import dataclass, field
-from typing import ClassVar
+from dataclasses import dataclass
+from typing import Any, ClassVar, TypeVar
 
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError, NotReset
+from mpcwalk.footsteps.leg_limits import LegLimits
 from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.gait.gait_defaults import GaitDefaults
+from mpcwalk.generators.robot_traits import RobotTraits
+from mpcwalk.models.cart_table import CartTable
+from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
 
-
-def _vec2(value, name: str) -> np.ndarray:
-    arr = np.asarray(value, dtype=float).ravel()
-    if arr.shape == (3,):
-        arr = arr[:2]
-    if arr.shape != (2,) or not np.all(np.isfinite(arr)):
-        raise ConfigurationError(f"{name} must be 2 finite numbers (x, y), got {value!r}.")
-    return arr
-
-
-@dataclass(frozen=True)
-class ComState:
-    """Horizontal CoM state.
-
-    Attributes:
-        position: CoM ground projection, shape (2,), in [m].
-        velocity: Shape (2,), in [m]/[s].
-        acceleration: Shape (2,), in [m]/[s]^2, or None when unknown (a
-            generator then keeps its own estimate).
-    """
-
-    position: np.ndarray
-    velocity: np.ndarray = field(default_factory=lambda: np.zeros(2))
-    acceleration: np.ndarray | None = None
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "position", _vec2(self.position, "ComState.position"))
-        object.__setattr__(self, "velocity", _vec2(self.velocity, "ComState.velocity"))
-        if self.acceleration is not None:
-            object.__setattr__(
-                self, "acceleration", _vec2(self.acceleration, "ComState.acceleration")
-            )
-
-    def as_cart_table(self, default_acceleration=None) -> np.ndarray:
-        """State matrix of shape (3, 2): rows position, velocity, acceleration."""
-        acc = self.acceleration
-        if acc is None:
-            acc = np.zeros(2) if default_acceleration is None else default_acceleration
-        return np.vstack([self.position, self.velocity, acc])
+G = TypeVar("G", bound="PatternGenerator")
 
 
 @dataclass(frozen=True)
@@ -145,11 +114,18 @@ class PatternGenerator(ABC):
     observer_gain: ClassVar[float] = 0.05
 
     @classmethod
-    def robot_options(cls, robot) -> dict:
-        """Keyword arguments of this generator taken from a robot (its preset's walking
-        defaults, its leg limits); :meth:`WalkingController.for_robot
-        <mpcwalk.control.controller.WalkingController.for_robot>` passes them under the caller's."""
+    def robot_options(cls, *, gait: GaitDefaults, leg_limits: LegLimits) -> dict[str, Any]:
+        """Keyword arguments of this generator taken from a robot's walking defaults (the
+        ``[gait]`` table of its preset) and leg limits; none by default.
+        :meth:`for_robot` passes them under the caller's options."""
         return {}
+
+    @classmethod
+    def for_robot(cls: type[G], robot: RobotTraits, **options: Any) -> G:
+        """Generator on the robot's LIPM (its CoM height) with its :meth:`robot_options`;
+        ``options`` override them (e.g. ``control_period=0.01``)."""
+        defaults = cls.robot_options(gait=robot.gait, leg_limits=robot.leg_limits)
+        return cls(**{"lipm": LIPM(com_height=robot.com_height), **defaults, **options})
 
     def __init__(self, *, lipm: LIPM = LIPM(), control_period: float = 0.01) -> None:
         if not np.isfinite(control_period) or control_period <= 0.0:
@@ -160,11 +136,26 @@ class PatternGenerator(ABC):
         self.control_period = float(control_period)
         self.schedule: ContactSchedule | None = None
         self.tick = 0
+        self._dcm_error = np.zeros(2)
+        self._last_output: GeneratorOutput | None = None
 
     @property
     def time(self) -> float:
         """Time of the last output, in [s]."""
         return self.tick * self.control_period
+
+    @property
+    def current_schedule(self) -> ContactSchedule:
+        """The schedule being followed (:attr:`schedule`).
+
+        Raises:
+            NotReset: :meth:`reset` was not called.
+        """
+        if self.schedule is None:
+            raise NotReset(
+                f"{type(self).__name__} has no schedule yet; call reset(schedule) first."
+            )
+        return self.schedule
 
     @property
     def done(self) -> bool:
@@ -188,31 +179,74 @@ class PatternGenerator(ABC):
             initial_state = ComState(schedule.torso_waypoints[0], np.zeros(2), np.zeros(2))
         self.schedule = schedule
         self.tick = 0
-        return self._reset(schedule, initial_state)
+        self._dcm_error = np.zeros(2)
+        self._last_output = self._reset(schedule, initial_state)
+        return self._last_output
 
-    def observe_dcm_error(self, error: np.ndarray) -> None:
-        """Told by a closed-loop controller, before :meth:`step`, the measured DCM minus the
-        reference DCM [m], shape (2,), of this tick (whatever share of the CoM error it passes
-        to :meth:`step`). Generators that adapt footsteps use it; others ignore it."""
+    @property
+    def dcm_error(self) -> np.ndarray:
+        """DCM error given to the current :meth:`step`, shape (2,), in [m]."""
+        return self._dcm_error
 
-    def step(self, measured: ComState | None = None) -> GeneratorOutput:
+    def step(
+        self, measured: ComState | None = None, *, dcm_error: np.ndarray | None = None
+    ) -> GeneratorOutput:
         """Advance by one control period.
 
         Args:
             measured: Measured CoM state at the current time (feedback); None
                 runs the generator on its own prediction.
+            dcm_error: Measured DCM minus the reference DCM of this tick, shape (2,), in
+                [m] (whatever share of the CoM error ``measured`` carries); None: zero.
+                Generators that adapt footsteps use it; others ignore it.
 
         Returns:
             The reference at the new time.
+
+        Raises:
+            NotReset: :meth:`reset` was not called.
+            NoSolutionFound: An optimising generator failed more often in a row than its
+                fallback allows; :meth:`coast` then continues the reference.
         """
         if self.schedule is None:
             raise NotReset(
                 f"{type(self).__name__}.step() was called before reset(); call "
                 "reset(schedule) first."
             )
+        self._dcm_error = np.zeros(2) if dcm_error is None else _dcm_error(dcm_error)
         out = self._step(measured)
         self.tick += 1
+        self._last_output = out
         return out
+
+    def coast(self, *, solver: str = "") -> GeneratorOutput:
+        """Advance by one control period without the generator: the last reference goes on
+        with zero jerk (what a caller that must not stop does after :meth:`step` raised
+        NoSolutionFound). The generator's own state is left as it was, so that its next
+        :meth:`step` starts from there (or from the measured state).
+
+        Args:
+            solver: Back-end name for the output's :class:`SolveInfo` (``fallback`` True).
+
+        Returns:
+            The reference at the new time.
+
+        Raises:
+            NotReset: :meth:`reset` was not called.
+        """
+        previous = self._last_output
+        if previous is None:
+            raise NotReset(
+                f"{type(self).__name__}.coast() was called before reset(); call "
+                "reset(schedule) first."
+            )
+        state = np.vstack([previous.com, previous.com_velocity, previous.com_acceleration])
+        model = CartTable(self.lipm, self.control_period)
+        state = model.integrate(state, np.zeros(2), self.control_period)
+        self.tick += 1
+        info = SolveInfo(False, solver, "coast", fallback=True)
+        self._last_output = self._output(self.time, state, solve=info)
+        return self._last_output
 
     @abstractmethod
     def _reset(self, schedule: ContactSchedule, initial_state: ComState) -> GeneratorOutput:
@@ -236,7 +270,18 @@ class PatternGenerator(ABC):
         )
 
 
-def timed_step(generator: PatternGenerator, measured: ComState | None = None):
+def _dcm_error(value) -> np.ndarray:
+    error = np.asarray(value, dtype=float)
+    if error.shape != (2,) or not np.all(np.isfinite(error)):
+        raise ConfigurationError(
+            f"dcm_error must be 2 finite numbers (x, y) in metres, got {value!r}."
+        )
+    return error
+
+
+def timed_step(
+    generator: PatternGenerator, measured: ComState | None = None
+) -> tuple[GeneratorOutput, float]:
     """Step a generator and measure its wall time.
 
     Returns:

@@ -35,13 +35,9 @@ import scipy.linalg
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.generators.pattern_generator import (
-    ComState,
-    GeneratorOutput,
-    Horizon,
-    PatternGenerator,
-)
+from mpcwalk.generators.pattern_generator import GeneratorOutput, Horizon, PatternGenerator
 from mpcwalk.models.cart_table import CartTable
+from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
 
 
@@ -265,7 +261,7 @@ class PreviewGenerator(PatternGenerator):
         """Jerk of the sampling period starting at ``t``."""
         g, Ts = self.gains, self.model.sampling_period
         times = t + Ts * np.arange(self.nb_preview + 1)
-        refs = self.schedule.zmp_reference(times)
+        refs = self.current_schedule.zmp_reference(times)
         if g.integral_action:
             self.error_sum += self.model.C @ self.state - refs[0]
         self.jerk = -g.Gi * self.error_sum - g.Gx @ self.state - g.Gd @ refs[1:]

@@ -5,7 +5,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.generators.pattern_generator import ComState, PatternGenerator, timed_step
+from mpcwalk.generators.pattern_generator import PatternGenerator, timed_step
+from mpcwalk.models.com_state import ComState
 
 
 @dataclass(frozen=True)

@@ -23,12 +23,8 @@ import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.generators.pattern_generator import (
-    ComState,
-    GeneratorOutput,
-    Horizon,
-    PatternGenerator,
-)
+from mpcwalk.generators.pattern_generator import GeneratorOutput, Horizon, PatternGenerator
+from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
 
 
@@ -157,7 +153,7 @@ class StaticGenerator(PatternGenerator):
         return self._output(t, self.evaluate([t])[0], horizon=self._horizon(t))
 
     def _horizon(self, t: float) -> Horizon | None:
-        sched = self.schedule
+        sched = self.current_schedule
         if self.horizon_time is None:
             k = sched.step_index(t)
             if not 0 <= k < sched.plan.nb_steps:

@@ -44,11 +44,9 @@ class StaticQPGenerator(MpcGenerator):
     #: on the static gait, which walks open loop in paper A's experiments).
     observer_gain: ClassVar[float] = 0.05
 
-    @classmethod
-    def robot_options(cls, robot) -> dict:
-        """None: the static gait has its own horizon (the presets' ``mpc_*`` keys are for
-        walking at speed)."""
-        return {}
+    #: None: the static gait has its own horizon (the presets' ``mpc_*`` keys are for
+    #: walking at speed).
+    PRESET_KEYS: ClassVar[dict[str, tuple[str, type]]] = {}
 
     default_parameters: ClassVar[MpcParameters] = MpcParameters(
         sampling_period=0.1,  # [s]

@@ -2,9 +2,9 @@
 
 from mpcwalk.ik.joint_bounds import DEFAULT_VELOCITY_LIMIT, JointBounds, solve_box_qp
 from mpcwalk.ik.leg_ik import AnalyticLegIK, LegGeometry, LegUnreachable
-from mpcwalk.ik.targets import IKResult, IKTargets, TaskErrors
+from mpcwalk.ik.targets import IKResult, IKTargets, IKWeights, TaskErrors
 from mpcwalk.ik.tasks import ComTask, FrameTask, PostureTask, Task, update_kinematics
-from mpcwalk.ik.whole_body_ik import IKWeights, WholeBodyIK
+from mpcwalk.ik.whole_body_ik import WholeBodyIK
 
 __all__ = [
     "DEFAULT_VELOCITY_LIMIT",

@@ -21,7 +21,7 @@ class JointBounds:
 
     Args:
         model: Pinocchio model: a free-flyer root, then 1-DoF joints (as
-            :class:`~mpcwalk.robot.loading.Robot` guarantees).
+            :class:`~mpcwalk.robot.robot.Robot` guarantees).
         velocity_limit: Joint velocity limit [rad/s]: a float, one per actuated joint, or None
             for the model's limits (:data:`DEFAULT_VELOCITY_LIMIT` where it has none);
             ``np.inf`` disables it.

@@ -1,4 +1,4 @@
-"""Inputs and outputs of the whole-body IK: targets, task errors, result."""
+"""Inputs and outputs of the whole-body IK: targets, task weights, task errors, result."""
 
 from dataclasses import dataclass
 
@@ -144,8 +144,30 @@ class IKTargets:
             com_velocity=com_velocity,
             left_sole_velocity=velocity(feet.left),
             right_sole_velocity=velocity(feet.right),
-            torso_angular_velocity=None if torso_yaw_rate is None else [0.0, 0.0, torso_yaw_rate],
+            torso_angular_velocity=None
+            if torso_yaw_rate is None
+            else np.array([0.0, 0.0, torso_yaw_rate]),
         )
+
+
+@dataclass(frozen=True)
+class IKWeights:
+    """Task weights of the whole-body IK (pink's "costs": a 1 cm CoM error with weight 10
+    costs as much as a 0.1 rad torso error with weight 1).
+
+    Attributes:
+        com: CoM position [cost/m].
+        sole_position: Position of each sole [cost/m].
+        sole_orientation: Orientation of each sole [cost/rad].
+        torso_orientation: Torso orientation [cost/rad].
+        posture: Joint angles towards the reference posture [cost/rad].
+    """
+
+    com: float = 10.0
+    sole_position: float = 10.0
+    sole_orientation: float = 10.0
+    torso_orientation: float = 1.0
+    posture: float = 1e-2
 
 
 @dataclass(frozen=True)

@@ -20,8 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from mpcwalk._checks import as_float_array
-from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.robot.loading import FrameNotFound
+from mpcwalk.exceptions import ConfigurationError, FrameNotFound
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
@@ -168,7 +167,7 @@ class FrameTask(Task):
         self.name = name or frame
         self.orientation_only = position_weight is None
         orientation = _weights(orientation_weight, 3, f"FrameTask({frame}) orientation_weight")
-        if self.orientation_only:
+        if position_weight is None:
             self.weights = orientation
         else:
             position = _weights(position_weight, 3, f"FrameTask({frame}) position_weight")

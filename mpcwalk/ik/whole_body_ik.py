@@ -17,7 +17,6 @@ used and the result says so.
 """
 
 import time
-from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
@@ -26,32 +25,12 @@ from scipy.linalg import lapack
 from mpcwalk._checks import as_float
 from mpcwalk.exceptions import ConfigurationError, SolverNotFound
 from mpcwalk.ik.joint_bounds import JointBounds, solve_box_qp
-from mpcwalk.ik.targets import IKResult, IKTargets, TaskErrors
+from mpcwalk.ik.targets import IKResult, IKTargets, IKWeights, TaskErrors
 from mpcwalk.ik.tasks import ComTask, FrameTask, PostureTask, update_kinematics
 
 
-@dataclass(frozen=True)
-class IKWeights:
-    """Task weights of the whole-body IK (pink's "costs": a 1 cm CoM error with weight 10
-    costs as much as a 0.1 rad torso error with weight 1).
-
-    Attributes:
-        com: CoM position [cost/m].
-        sole_position: Position of each sole [cost/m].
-        sole_orientation: Orientation of each sole [cost/rad].
-        torso_orientation: Torso orientation [cost/rad].
-        posture: Joint angles towards the reference posture [cost/rad].
-    """
-
-    com: float = 10.0
-    sole_position: float = 10.0
-    sole_orientation: float = 10.0
-    torso_orientation: float = 1.0
-    posture: float = 1e-2
-
-
 class WholeBodyIK:
-    """Differential IK of a floating-base humanoid (:class:`~mpcwalk.robot.loading.Robot`).
+    """Differential IK of a floating-base humanoid (:class:`~mpcwalk.robot.robot.Robot`).
 
     Args:
         robot: The robot (its Pinocchio model; its ``q0`` is the posture reference).
@@ -190,7 +169,9 @@ class WholeBodyIK:
 
     def _errors(self, posture_error: np.ndarray) -> TaskErrors:
         norms = np.sqrt(np.add.reduceat(self._e * self._e, self._error_starts[:-1]))
-        return TaskErrors(*norms.tolist(), float(np.linalg.norm(posture_error)))
+        com, left_p, left_o, right_p, right_o, torso = (float(norm) for norm in norms)
+        posture = float(np.linalg.norm(posture_error))
+        return TaskErrors(com, left_p, left_o, right_p, right_o, torso, posture)
 
     def _main_error(self) -> float:
         """Largest CoM/sole/torso error norm in ``self._e``, in [m] or [rad]."""

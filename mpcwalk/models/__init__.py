@@ -1,7 +1,16 @@
-"""Reduced models: LIPM, cart-table, support polygons."""
+"""Reduced models: LIPM, cart-table, CoM state, support polygons."""
 
 from mpcwalk.models.cart_table import CartTable
+from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import GRAVITY, LIPM
 from mpcwalk.models.support_polygon import SupportPolygon, convex_hull, foot_rectangle
 
-__all__ = ["GRAVITY", "LIPM", "CartTable", "SupportPolygon", "convex_hull", "foot_rectangle"]
+__all__ = [
+    "GRAVITY",
+    "LIPM",
+    "CartTable",
+    "ComState",
+    "SupportPolygon",
+    "convex_hull",
+    "foot_rectangle",
+]

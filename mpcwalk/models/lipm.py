@@ -57,7 +57,7 @@ class LIPM:
         com_velocity: np.ndarray,
         zmp: np.ndarray,
         duration: float,
-        zmp_velocity: np.ndarray = 0.0,
+        zmp_velocity: np.ndarray | float = 0.0,
     ):
         """Exact LIPM propagation under a ZMP that is affine in time.
 

@@ -87,11 +87,11 @@ class SupportPolygon:
         """Polygon with every edge moved inwards by ``margin`` [m] (same normals)."""
         return SupportPolygon(vertices=self.vertices, A=self.A, b=self.b - margin)
 
-    def contains(self, points: np.ndarray, margin: float = 0.0) -> np.ndarray:
+    def contains(self, points: np.ndarray, margin: float = 0.0) -> bool | np.ndarray:
         """Whether points, shape (..., 2), lie inside with at least ``margin``."""
         return self.signed_distance(points) >= margin
 
-    def signed_distance(self, points: np.ndarray) -> np.ndarray:
+    def signed_distance(self, points: np.ndarray) -> float | np.ndarray:
         """Signed Euclidean distance to the boundary, positive inside, in [m].
 
         Args:
@@ -134,7 +134,7 @@ class SupportPolygon:
 
 
 def foot_rectangle(
-    center: Sequence[float], yaw: float, length: float, width: float
+    center: Sequence[float] | np.ndarray, yaw: float, length: float, width: float
 ) -> SupportPolygon:
     """Rectangle of a flat foot sole.
 

@@ -1,16 +1,19 @@
-"""Walking MPC as a QP: parameters, construction (condensed and sparse) and
-solver back-ends (qpsolvers, direct OSQP, CasADi)."""
+"""Walking MPC as a QP: parameters, construction (condensed and sparse), the QP protocol
+and solver back-ends (qpsolvers, direct OSQP, CasADi, KKT)."""
 
 from mpcwalk.qp.parameters import MpcParameters
+from mpcwalk.qp.program import FixedPatternProgram, Prediction, QuadraticProgram
 from mpcwalk.qp.result import QPResult, kkt_residuals
-from mpcwalk.qp.solvers.registry import (
+from mpcwalk.qp.solvers import (
+    SOLVERS,
     KktSolver,
     QPSolver,
     QpsolversSolver,
+    SolverEntry,
     make_solver,
     solver_names,
 )
-from mpcwalk.qp.walking_qp import FORMULATIONS, Prediction, WalkingQP
+from mpcwalk.qp.walking_qp import FORMULATIONS, WalkingQP
 
 
 def __getattr__(name: str):
@@ -28,7 +31,9 @@ def __getattr__(name: str):
 
 __all__ = [
     "FORMULATIONS",
+    "SOLVERS",
     "CasadiSolver",
+    "FixedPatternProgram",
     "KktSolver",
     "MpcParameters",
     "OsqpSolver",
@@ -36,6 +41,8 @@ __all__ = [
     "QPResult",
     "QPSolver",
     "QpsolversSolver",
+    "QuadraticProgram",
+    "SolverEntry",
     "WalkingQP",
     "kkt_residuals",
     "make_solver",

@@ -14,13 +14,11 @@ footsteps; the footstep yaws are known in advance, so every constraint is linear
 ``c0 + S F`` is the ZMP centre of each sample (its support foot, or a point moving from
 one foot to the next in double support), affine in the footsteps. ``M F - r`` pulls the
 footsteps towards a nominal plan (absolute positions, or displacements from the previous
-footstep). The caller (:class:`~mpcwalk.generators.mpc_steps.FootstepMpcGenerator`) says
-which footstep each sample stands on; :class:`FootstepQP` only assembles the matrices. The
+footstep). :class:`~mpcwalk.qp.footstep_supports.FootstepSlots` says which footstep each
+sample stands on; :class:`FootstepQP` only assembles the matrices. The
 problem is dense (jerks condensed) and rebuilt with numpy every tick from precomputed
 prediction products: the footstep columns change with the samples anyway.
 """
-
-from dataclasses import dataclass
 
 import numpy as np
 import qpsolvers
@@ -29,65 +27,18 @@ from mpcwalk.exceptions import ConfigurationError, NotReset
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp.footstep_parameters import FootstepMpcParameters
-
-
-@dataclass(frozen=True)
-class SampleSupports:
-    """ZMP constraints and ZMP centres at the constraint points, affine in the footsteps.
-
-    The constraint points are :meth:`FootstepQP.constraint_times` (``n = N P`` with ``P``
-    points per interval; every ``P``-th is a sample). Point ``i`` requires
-    ``normals[i, r] . (Z_i - S_i F) <= offsets[i, r]`` for the rows ``r`` where
-    ``rows[i, r]``; its ZMP centre is ``centres[i] + S_i F`` (used at the samples only).
-
-    Attributes:
-        normals: Outward unit normals, shape (n, E, 2).
-        offsets: Shape (n, E), in [m].
-        rows: Which rows are real (not padding), shape (n, E), bool.
-        weights: ``S``: share of each footstep variable in the point's support, (n, nf).
-        centres: Fixed part ``c0`` of the ZMP centre, shape (n, 2), in [m].
-    """
-
-    normals: np.ndarray
-    offsets: np.ndarray
-    rows: np.ndarray
-    weights: np.ndarray
-    centres: np.ndarray
-
-
-@dataclass(frozen=True)
-class StepVariables:
-    """Footstep variables of one tick: which are used, their reference, their reach.
-
-    Attributes:
-        active: Shape (nf,), bool; inactive variables are pinned at 0 by the cost only.
-        reference_matrix: ``M``, shape (nf, nf).
-        reference: ``r``, shape (nf, 2), in [m]: the cost pulls ``M F`` towards it.
-        predecessor: Variable index of the footstep each one is reached from (the support
-            foot of its step), or -1 when that foot is fixed; shape (nf,), int.
-        predecessor_xy: Position of a fixed predecessor, shape (nf, 2), in [m].
-        predecessor_yaw: Yaw of the predecessor, shape (nf,), in [rad].
-        lower: Lowest landing in the predecessor's frame (x, y), shape (nf, 2), in [m].
-        upper: Highest landing, shape (nf, 2), in [m].
-        initial: Current positions (warm start of the footstep entries), (nf, 2), in [m].
-    """
-
-    active: np.ndarray
-    reference_matrix: np.ndarray
-    reference: np.ndarray
-    predecessor: np.ndarray
-    predecessor_xy: np.ndarray
-    predecessor_yaw: np.ndarray
-    lower: np.ndarray
-    upper: np.ndarray
-    initial: np.ndarray
+from mpcwalk.qp.footstep_supports import SampleSupports, StepVariables
+from mpcwalk.qp.program import Prediction
 
 
 class FootstepQP:
     """Dense QP of the footstep-adaptive MPC, rebuilt cheaply every tick.
 
-    The qpsolvers back-ends of :mod:`mpcwalk.qp.solvers.registry` solve it through :meth:`problem`
-    (``formulation`` is ``"dense"``, there are no equality rows).
+    It answers :class:`~mpcwalk.qp.program.QuadraticProgram`: the qpsolvers back-ends of
+    :mod:`mpcwalk.qp.solvers` solve it through :meth:`problem` (``formulation`` is
+    ``"dense"``, there are no equality rows). Its matrices are rebuilt every tick
+    (``fixed_pattern`` is False), so the back-ends that update a fixed sparsity pattern in
+    place (``osqp-direct``, CasADi, ``kkt``) refuse it.
 
     Args:
         lipm: Pendulum model.
@@ -96,6 +47,7 @@ class FootstepQP:
     """
 
     formulation = "dense"
+    fixed_pattern = False
     m_eq = 0
 
     def __init__(self, lipm: LIPM, parameters: FootstepMpcParameters, nb_footsteps: int) -> None:
@@ -115,7 +67,9 @@ class FootstepQP:
         self._columns = [
             np.concatenate([a * N + np.arange(N), 2 * N + a * nf + np.arange(nf)]) for a in range(2)
         ]
-        self.P = self.q = self.G = self.h = None
+        # The QP of the last update (empty before the first).
+        self.P, self.q = np.zeros((self.n, self.n)), np.zeros(self.n)
+        self.G, self.h = np.zeros((0, self.n)), np.zeros(0)
         self.x0: np.ndarray | None = None
         self.sample_times = self.sample_times_at(0.0)
         self._initial_footsteps = np.zeros((nf, 2))
@@ -162,6 +116,8 @@ class FootstepQP:
             "Ppu": Xu[:, 0],
             "Pvs": Xs[:, 1],
             "Pvu": Xu[:, 1],
+            "Pas": Xs[:, 2],
+            "Pau": Xu[:, 2],
             "Pzs": np.einsum("k,nkj->nj", C, Xs),
             "Pzu": np.einsum("k,nkj->nj", C, Xu),
         }
@@ -273,13 +229,17 @@ class FootstepQP:
         """The QP in qpsolvers form ``min 1/2 x'Px + q'x, G x <= h`` (dense arrays; the
         ``dense`` flag of the solver interface is accepted, the matrices are dense anyway,
         converted to CSC when ``dense`` is False)."""
-        if self.x0 is None:
-            raise NotReset("FootstepQP.update(...) must be called before solving.")
+        self.require_update()
         if dense:
             return qpsolvers.Problem(self.P, self.q, self.G, self.h)
         import scipy.sparse as sp
 
         return qpsolvers.Problem(sp.csc_matrix(self.P), self.q, sp.csc_matrix(self.G), self.h)
+
+    def require_update(self) -> None:
+        """Raise NotReset before the first :meth:`update`."""
+        if self.x0 is None:
+            raise NotReset("FootstepQP.update(...) must be called before solving.")
 
     # ------------------------------------------------------------- solutions
     def jerks(self, x: np.ndarray) -> np.ndarray:
@@ -290,12 +250,17 @@ class FootstepQP:
         """Footstep positions of a solution, shape (nf, 2), in [m]."""
         return np.asarray(x)[2 * self.N :].reshape(2, self.nf).T
 
-    def predict(self, jerks: np.ndarray):
-        """CoM positions and ZMPs at the samples of the last :meth:`update`, each (N, 2),
-        for jerks (N, 2)."""
-        pred = self._pred
-        com = pred["Pps"] @ self.x0 + pred["Ppu"] @ jerks
-        return com, pred["Pzs"] @ self.x0 + pred["Pzu"] @ jerks
+    def predict(self, jerks: np.ndarray) -> Prediction:
+        """Exact states at the samples of the last :meth:`update` for jerks (N, 2)."""
+        self.require_update()
+        pred, x0 = self._pred, self.x0
+        return Prediction(
+            times=self.sample_times.copy(),
+            com=pred["Pps"] @ x0 + pred["Ppu"] @ jerks,
+            com_velocity=pred["Pvs"] @ x0 + pred["Pvu"] @ jerks,
+            com_acceleration=pred["Pas"] @ x0 + pred["Pau"] @ jerks,
+            zmp=pred["Pzs"] @ x0 + pred["Pzu"] @ jerks,
+        )
 
     def shift_primal(self, x: np.ndarray, samples: float) -> np.ndarray:
         """Warm start: jerks shifted by ``samples`` sampling periods (linear interpolation,

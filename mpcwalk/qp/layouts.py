@@ -19,7 +19,7 @@ so that the largest diagonal entry of ``P`` is 1. This does not move the
 minimiser and keeps absolute solver tolerances meaningful.
 """
 
-from dataclasses import dataclass
+from abc import ABC, abstractmethod
 
 import numpy as np
 
@@ -27,41 +27,14 @@ from mpcwalk.gait.contact_schedule import MAX_POLYGON_EDGES
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.qp.fixed_pattern import FixedPattern, stack_patterns
 from mpcwalk.qp.parameters import MpcParameters
+from mpcwalk.qp.schedule_tables import SupportSequence
 
 E = MAX_POLYGON_EDGES
 #: (start, shape, sample axis) of a block of a primal or dual vector.
 Block = tuple[int, tuple[int, ...], int | None]
 
 
-@dataclass(frozen=True)
-class SupportSequence:
-    """Half-planes ``A p <= b`` used by the inequality rows.
-
-    Attributes:
-        zmp_A: ZMP polygon normals at the samples, shape (N, E, 2).
-        zmp_b: Offsets, shape (N, E), in [m]. The last sample's polygon also
-            bounds the terminal DCM.
-        com_A: CoM polygon normals at the samples, shape (N, E, 2).
-        com_b: Offsets, shape (N, E), in [m].
-        tick_A: Polygon normals at the next control tick, shape (E, 2).
-        tick_b: Offsets, shape (E,), in [m].
-    """
-
-    zmp_A: np.ndarray
-    zmp_b: np.ndarray
-    com_A: np.ndarray
-    com_b: np.ndarray
-    tick_A: np.ndarray
-    tick_b: np.ndarray
-
-    @staticmethod
-    def empty(N: int) -> "SupportSequence":
-        """Placeholder of the right shapes (all zeros)."""
-        A, b = np.zeros((N, E, 2)), np.zeros((N, E))
-        return SupportSequence(A, b, A, b, A[0], b[0])
-
-
-class _Layout:
+class _Layout(ABC):
     """Shared parts of both layouts.
 
     Args:
@@ -70,6 +43,12 @@ class _Layout:
         control_period: When given (and constraints are on), also constrain
             the state at ``t + control_period``, in [s].
     """
+
+    #: Set by each layout: values of its equality rows, their dual blocks and the
+    #: per-sample blocks of its primal vector.
+    _eq_values: np.ndarray
+    _eq_dual_blocks: list[Block]
+    primal_blocks: list[Block]
 
     def __init__(
         self, model: CartTable, parameters: MpcParameters, control_period: float | None = None
@@ -87,7 +66,7 @@ class _Layout:
         self.Pxu = self.Ppu + self.Pvu / self.omega
         self.C = model.C
         tick = control_period is not None and p.constrained
-        if tick:
+        if control_period is not None and tick:
             A_dt, B_dt = CartTable.transition(control_period)
             # (row acting on x0, coefficient of the first jerk) per tick row.
             self._tick = {
@@ -109,7 +88,29 @@ class _Layout:
         self.m_ineq = E * sum(nb for _, nb in self.groups)
         self.has_tick = tick
 
-    def _finish(self, n: int, m_eq: int, P_coords, eq_coords) -> None:
+    @abstractmethod
+    def _entries(self, kind: str) -> tuple[np.ndarray, np.ndarray]:
+        """Rows and columns of the inequality rows of ``kind``."""
+
+    @abstractmethod
+    def _values(self, kind: str, Ahp: np.ndarray) -> np.ndarray:
+        """Values of the inequality rows of ``kind`` from the polygons' normals ``Ahp``."""
+
+    @abstractmethod
+    def _free(self, kind: str, x0: np.ndarray) -> np.ndarray:
+        """Part of the constrained quantity of ``kind`` that ``x0`` alone gives."""
+
+    @abstractmethod
+    def P_values(self, com_weights: np.ndarray) -> np.ndarray:
+        """Cost matrix values in coordinate order."""
+
+    def _finish(
+        self,
+        n: int,
+        m_eq: int,
+        P_coords: tuple[np.ndarray, np.ndarray],
+        eq_coords: list[tuple[np.ndarray, np.ndarray]],
+    ) -> None:
         self.n, self.m_eq = n, m_eq
         self.m = m_eq + self.m_ineq
         blocks, row = list(eq_coords), m_eq
@@ -342,8 +343,8 @@ class SparseLayout(_Layout):
         return s * np.concatenate([np.zeros(2 * N), gx.ravel()])
 
     def bounds(self, x0, seq: SupportSequence) -> tuple[np.ndarray, np.ndarray]:
-        eq = np.zeros((2, self.N, 3))
-        eq[:, 0, :] = (self.model.A @ x0).T
-        eq = eq.ravel()
+        states = np.zeros((2, self.N, 3))
+        states[:, 0, :] = (self.model.A @ x0).T
+        eq = states.ravel()
         u_ineq = self.upper_bounds(x0, seq)
         return (np.concatenate([eq, np.full(self.m_ineq, -np.inf)]), np.concatenate([eq, u_ineq]))

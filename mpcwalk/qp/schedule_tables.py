@@ -1,4 +1,5 @@
-"""Per-phase tables of a contact schedule, for fast per-tick lookups."""
+"""Per-phase tables of a contact schedule, for fast per-tick lookups, and the sequence of
+supports the walking QP's inequality rows use."""
 
 from dataclasses import dataclass
 
@@ -93,3 +94,33 @@ class ScheduleTables:
             ],
             axis=1,
         )
+
+
+@dataclass(frozen=True)
+class SupportSequence:
+    """Half-planes ``A p <= b`` used by the walking QP's inequality rows, ``E`` (=
+    :data:`~mpcwalk.gait.contact_schedule.MAX_POLYGON_EDGES`) rows per polygon.
+
+    Attributes:
+        zmp_A: ZMP polygon normals at the samples, shape (N, E, 2).
+        zmp_b: Offsets, shape (N, E), in [m]. The last sample's polygon also
+            bounds the terminal DCM.
+        com_A: CoM polygon normals at the samples, shape (N, E, 2).
+        com_b: Offsets, shape (N, E), in [m].
+        tick_A: Polygon normals at the next control tick, shape (E, 2).
+        tick_b: Offsets, shape (E,), in [m].
+    """
+
+    zmp_A: np.ndarray
+    zmp_b: np.ndarray
+    com_A: np.ndarray
+    com_b: np.ndarray
+    tick_A: np.ndarray
+    tick_b: np.ndarray
+
+    @staticmethod
+    def empty(N: int) -> "SupportSequence":
+        """Placeholder of the right shapes (all zeros)."""
+        E = MAX_POLYGON_EDGES
+        A, b = np.zeros((N, E, 2)), np.zeros((N, E))
+        return SupportSequence(A, b, A, b, A[0], b[0])

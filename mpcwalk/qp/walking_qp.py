@@ -9,8 +9,6 @@ cost. :class:`WalkingQP` builds the matrices once and :meth:`WalkingQP.update`
 rewrites only what changes from one control tick to the next.
 """
 
-from dataclasses import dataclass
-
 import numpy as np
 import qpsolvers
 import scipy.sparse as sp
@@ -19,33 +17,16 @@ from mpcwalk.exceptions import ConfigurationError, NotReset
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.lipm import LIPM
-from mpcwalk.qp.layouts import CondensedLayout, SparseLayout, SupportSequence
+from mpcwalk.qp.fixed_pattern import FixedPattern
+from mpcwalk.qp.layouts import CondensedLayout, SparseLayout
 from mpcwalk.qp.parameters import MpcParameters
-from mpcwalk.qp.schedule_tables import ScheduleTables
+from mpcwalk.qp.program import Prediction
+from mpcwalk.qp.schedule_tables import ScheduleTables, SupportSequence
 
 FORMULATIONS = ("dense", "sparse")
 #: Times within this of a phase boundary, up to round-off, belong to the new
 #: phase (as in ``ContactSchedule.phase_index``), in [s].
 _BOUNDARY_EPS = 1e-9
-
-
-@dataclass(frozen=True)
-class Prediction:
-    """States predicted over the horizon from an initial state and jerks.
-
-    Attributes:
-        times: Sample times, shape (N,), in [s].
-        com: CoM positions, shape (N, 2), in [m].
-        com_velocity: Shape (N, 2), in [m]/[s].
-        com_acceleration: Shape (N, 2), in [m]/[s]^2.
-        zmp: Shape (N, 2), in [m].
-    """
-
-    times: np.ndarray
-    com: np.ndarray
-    com_velocity: np.ndarray
-    com_acceleration: np.ndarray
-    zmp: np.ndarray
 
 
 class WalkingQP:
@@ -64,6 +45,9 @@ class WalkingQP:
     the next) merged. :attr:`A_version` and :attr:`P_version` count these
     rewrites so that solvers push new matrix values only when needed.
 
+    It answers :class:`~mpcwalk.qp.program.FixedPatternProgram` (and so
+    :class:`~mpcwalk.qp.program.QuadraticProgram`).
+
     Args:
         lipm: Pendulum model (CoM height, gravity).
         parameters: Horizon, weights and margins.
@@ -74,6 +58,9 @@ class WalkingQP:
             next output of a generator, which falls between the samples; in
             [s]. None: samples only.
     """
+
+    #: The OSQP form keeps one sparsity pattern (:class:`~mpcwalk.qp.program.FixedPatternProgram`).
+    fixed_pattern = True
 
     def __init__(
         self,
@@ -161,10 +148,10 @@ class WalkingQP:
             )
         p, layout = self.parameters, self.layout
         times = t + self.sample_offsets
-        if schedule is not self._schedule:
-            self._schedule, self._key = schedule, None
-            self._tables = ScheduleTables.from_schedule(schedule)
         tables = self._tables
+        if schedule is not self._schedule or tables is None:
+            self._schedule, self._key = schedule, None
+            tables = self._tables = ScheduleTables.from_schedule(schedule)
         tick = t + (self.control_period or 0.0)
         all_idx = schedule.phase_index(
             np.concatenate([[tick], times, times + p.sampling_period]) + _BOUNDARY_EPS
@@ -229,6 +216,16 @@ class WalkingQP:
         return entry[1]
 
     @property
+    def P_pattern(self) -> FixedPattern:
+        """Sparsity pattern of the full symmetric ``P``, shape (n, n)."""
+        return self.layout.P_pattern
+
+    @property
+    def A_pattern(self) -> FixedPattern:
+        """Sparsity pattern of ``A`` (OSQP form), shape (m, n)."""
+        return self.layout.A_pattern
+
+    @property
     def P(self) -> sp.csc_matrix:
         """Full symmetric cost matrix, shape (n, n), CSC."""
         return self._cached("P", self.P_version, lambda: self.layout.P_pattern.matrix(self.P_data))
@@ -255,7 +252,7 @@ class WalkingQP:
         Args:
             dense: Give numpy arrays instead of CSC matrices (for dense solvers).
         """
-        self._require_update()
+        self.require_update()
         kind = "dense" if dense else "csc"
         pattern = self.layout.P_pattern
         P = self._cached(
@@ -286,7 +283,8 @@ class WalkingQP:
             b = self.l[: self.m_eq]
         return qpsolvers.Problem(P, self.q, G, h, A, b)
 
-    def _require_update(self) -> None:
+    def require_update(self) -> None:
+        """Raise NotReset before the first :meth:`update`."""
         if self.x0 is None:
             raise NotReset("WalkingQP.update(x0, t, schedule) must be called before solving.")
 

@@ -7,7 +7,7 @@ import numpy as np
 
 from mpcwalk._checks import frozen_array
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.sim.measurements import FootContact
+from mpcwalk.robot.sensors import FootContact
 
 _NAN3 = frozen_array([np.nan, np.nan, np.nan])
 

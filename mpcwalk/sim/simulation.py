@@ -10,10 +10,11 @@ import numpy as np
 
 from mpcwalk._checks import frozen_array
 from mpcwalk.exceptions import ConfigurationError, MpcwalkError
-from mpcwalk.robot.loading import Robot
+from mpcwalk.robot.robot import Robot
+from mpcwalk.robot.sensors import ImuReading, Measurements
 from mpcwalk.sim.contacts import ContactEstimator
 from mpcwalk.sim.disturbances import ExternalForce, resolve_body
-from mpcwalk.sim.measurements import ImuReading, Measurements, SimState, quaternion_to_rpy
+from mpcwalk.sim.measurements import SimState, quaternion_to_rpy
 
 _UNSTABLE_WARNINGS = (
     mujoco.mjtWarning.mjWARN_BADQACC,
@@ -32,6 +33,17 @@ class SimulationUnstable(MpcwalkError, RuntimeError):
             f"or velocities); lower the physics time step (now {timestep:g} s) or the actuator "
             "gains, or check the joint targets for jumps."
         )
+
+
+def make_mj_data(robot: Robot, q: np.ndarray | None = None) -> mujoco.MjData:
+    """MuJoCo data of ``robot.mj_model`` at ``q`` (default ``robot.q0``), at rest, the
+    actuators holding ``q``, forwarded."""
+    q = robot.q0 if q is None else q
+    mj_data = mujoco.MjData(robot.mj_model)
+    mj_data.qpos[:] = robot.q_to_qpos(q)
+    mj_data.ctrl[:] = robot.q_to_ctrl(q)
+    mujoco.mj_forward(robot.mj_model, mj_data)
+    return mj_data
 
 
 @dataclass(frozen=True)
@@ -58,7 +70,7 @@ class Simulation:
     each physics step.
 
     Args:
-        robot: The robot (from :func:`mpcwalk.robot.loading.load_robot`).
+        robot: The robot (from :func:`mpcwalk.robot.load_robot`).
         timestep: Physics time step [s]; None keeps the robot's.
         control_period: Duration of one :meth:`step` [s], a multiple of ``timestep``.
         seed: Seed of the sensor-noise generator.
@@ -272,6 +284,9 @@ class Simulation:
             yaw=yaw,
         )
         left, right, cop, has_cop = self.contacts.measure(model, data)
+        sites = list(self.contacts.site_ids)
+        sole_positions = frozen_array(data.site_xpos[sites])
+        sole_rotations = frozen_array(data.site_xmat[sites], (2, 3, 3))
         measurements = Measurements(
             imu=imu,
             left_foot=left,
@@ -282,15 +297,16 @@ class Simulation:
             com_velocity=frozen_array(data.subtree_linvel[self.root_body]),
             joint_positions=frozen_array(encoders),
             joint_velocities=frozen_array(v[6:]),
+            sole_positions=sole_positions,
+            sole_rotations=sole_rotations,
         )
-        sites = list(self.contacts.site_ids)
         return SimState(
             time=self.time,
             q=frozen_array(q),
             v=frozen_array(v),
             base_position=frozen_array(data.xpos[self.root_body]),
             base_rotation=frozen_array(data.xmat[self.root_body], (3, 3)),
-            sole_positions=frozen_array(data.site_xpos[sites]),
-            sole_rotations=frozen_array(data.site_xmat[sites], (2, 3, 3)),
+            sole_positions=sole_positions,
+            sole_rotations=sole_rotations,
             measurements=measurements,
         )

@@ -9,9 +9,15 @@ measured CoP over time) and, with ``--video``, ``walk.mp4``.
 import argparse
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
 
 from mpcwalk.control.stabilizers import STABILIZER_NAMES
 from mpcwalk.exceptions import ConfigurationError
+
+if TYPE_CHECKING:
+    from mpcwalk.walking.result import WalkResult
 
 
 def add_walk_parser(sub) -> argparse.ArgumentParser:
@@ -25,13 +31,13 @@ def add_walk_parser(sub) -> argparse.ArgumentParser:
         "and a CoM/CoP-over-time plot into --out (and walk.mp4 with --video). Walking "
         "defaults (step duration, swing height, leg limits) come from the robot's preset.",
     )
-    p.add_argument("--robot", default="bioloid-like", help="robot name (see `mpcwalk robots`)")
+    p.add_argument("--robot", default="bioloid-like", help="robot name (list: mpcwalk robots)")
     p.add_argument(
-        "--generator", default="mpc", help="pattern generator (see `mpcwalk generators`)"
+        "--generator", default="mpc", help="pattern generator (list: mpcwalk generators)"
     )
-    p.add_argument("--vx", type=float, default=None, help="forward velocity [m/s] (default 0.1)")
-    p.add_argument("--vy", type=float, default=None, help="lateral velocity [m/s] (default 0)")
-    p.add_argument("--vyaw", type=float, default=None, help="yaw rate [rad/s] (default 0)")
+    p.add_argument("--vx", type=float, default=None, help="forward velocity [m/s] (default: 0.1)")
+    p.add_argument("--vy", type=float, default=None, help="lateral velocity [m/s] (default: 0)")
+    p.add_argument("--vyaw", type=float, default=None, help="yaw rate [rad/s] (default: 0)")
     p.add_argument(
         "--path",
         type=Path,
@@ -42,10 +48,16 @@ def add_walk_parser(sub) -> argparse.ArgumentParser:
         "--duration",
         type=float,
         default=None,
-        help="walking time [s]: round(duration / T) steps (plus 1 s standing before "
-        "and after); with --path, the path is cut after that many steps",
+        help="walking time [s]: round(duration / T) steps, then a closing step (the "
+        "simulation also stands still before and after: the console and metrics.json say "
+        "what was planned and simulated); with --path, the path is cut after that many steps",
     )
-    p.add_argument("--steps", type=int, default=None, help="number of steps instead of --duration")
+    p.add_argument(
+        "--steps",
+        type=int,
+        default=None,
+        help="number of steps instead of --duration (a velocity command adds a closing step)",
+    )
     p.add_argument(
         "--step-duration",
         type=float,
@@ -65,7 +77,11 @@ def add_walk_parser(sub) -> argparse.ArgumentParser:
         help="swing-foot height [m] (default: the robot preset's)",
     )
     p.add_argument("--control-period", type=float, default=0.01, help="controller tick [s]")
-    p.add_argument("--solver", default=None, help="QP solver of the QP generators")
+    p.add_argument(
+        "--solver",
+        default=None,
+        help="QP solver of the QP generators (default: the generator's)",
+    )
     p.add_argument(
         "--stabilizer",
         choices=STABILIZER_NAMES,
@@ -80,8 +96,7 @@ def add_walk_parser(sub) -> argparse.ArgumentParser:
         default=0.0,
         metavar="S",
         help="paper M's arm swing factor s (eq. 24-25): each hand moves forward by "
-        "s times the opposite foot's displacement; paper M uses 0.8 (default 0: "
-        "arms still)",
+        "s times the opposite foot's displacement; paper M uses 0.8, 0: arms still",
     )
     p.add_argument(
         "--reaim",
@@ -131,7 +146,7 @@ def add_walk_parser(sub) -> argparse.ArgumentParser:
 def run_walk_command(args) -> int:
     """Run ``mpcwalk walk``; bad input raises an MpcwalkError (exit code 2 in ``main``)."""
     from mpcwalk.sim import parse_push
-    from mpcwalk.walking.report import plot_walk_over_time, plot_walk_top_view
+    from mpcwalk.walking.figures import plot_walk_over_time, plot_walk_top_view
     from mpcwalk.walking.runner import run_walk
 
     velocity = (args.vx, args.vy, args.vyaw)
@@ -177,12 +192,13 @@ def run_walk_command(args) -> int:
         yaw_reference=bool(pushes),
     )
     written = [out / "metrics.json"]
-    (out / "metrics.json").write_text(json.dumps(result.metrics, indent=2) + "\n")
+    (out / "metrics.json").write_text(json.dumps(result.to_dict(), indent=2) + "\n")
     written.append(result.log.save(out / f"walk_log.{args.log_format}"))
-    m = result.metrics
     what = f"v=({', '.join(f'{c:g}' for c in command)})" if command else str(args.path)
-    title = f"{result.robot}, {result.generator}: {what}, T={m['step_duration_s']:g} s"
+    title = f"{result.robot}, {result.generator}: {what}, T={result.config.step_duration_s:g} s"
     if len(result.log):
+        import matplotlib.pyplot as plt
+
         for name, plot in (
             ("top_view.png", plot_walk_top_view),
             ("com_cop.png", plot_walk_over_time),
@@ -190,14 +206,12 @@ def run_walk_command(args) -> int:
             figure = plot(result.schedule, result.log, title=title)
             figure.savefig(out / name, dpi=120)
             written.append(out / name)
-            import matplotlib.pyplot as plt
-
             plt.close(figure)
     if args.video:
         written.append(out / "walk.mp4")
-    print(summary(m))
+    print(summary(result))
     print("wrote " + ", ".join(str(path) for path in written))
-    return 1 if m["fell"] else 0
+    return 1 if result.metrics.fell else 0
 
 
 def _swing_profile(args) -> str:
@@ -226,21 +240,38 @@ def _stabilizer(args):
     return StabilizerChain(parts) if parts else None
 
 
-def _format(value, scale: float = 1.0, unit: str = "") -> str:
-    return "n/a" if value is None else f"{value * scale:.2f}{unit}"
+def format_length(value: float | None) -> str:
+    """A length [m] in millimetres with three significant digits (4e-6 m: "0.004 mm")."""
+    if value is None:
+        return "n/a"
+    digits = np.format_float_positional(
+        1e3 * value, precision=3, unique=False, fractional=False, trim="-"
+    )
+    return f"{digits} mm"
 
 
-def summary(metrics: dict) -> str:
-    """One line telling how a walk went."""
-    m = metrics
-    state = f"FELL at {m['fall_time_s']:.2f} s ({m['fall_reason']})" if m["fell"] else "no fall"
+def _format(value: float | None, unit: str = "") -> str:
+    return "n/a" if value is None else f"{value:.2f}{unit}"
+
+
+def summary(result: "WalkResult") -> str:
+    """Two lines telling what was planned and simulated, and how the walk went."""
+    m, config = result.metrics, result.config
+    state = f"FELL at {m.fall_time_s:.2f} s ({m.fall_reason})" if m.fell else "no fall"
+    steps = f"{m.steps_planned} steps"
+    if m.closing_steps:
+        steps = f"{m.steps_planned - m.closing_steps} steps + {m.closing_steps} closing step"
+    standing = m.time_planned_s - m.walking_time_planned_s
+    asked = "" if config.duration_s is None else f" for --duration {config.duration_s:g} s"
     return (
-        f"{m['robot']} {m['generator']}: {state}; {m['steps_completed']}/{m['steps_planned']} "
-        f"steps, {m['distance_m']:.3f} m (planned {m['distance_planned_m']:.3f} m), yaw "
-        f"{m['yaw_change_deg']:.1f} deg, foot error "
-        f"{_format(m['foot_position_error_cm_mean'], unit=' cm')} mean, ZMP margin min "
-        f"{_format(m['zmp_margin_min_m'], 100.0, ' cm')}, real time "
-        f"x{_format(m['real_time_factor'])}"
+        f"{result.robot} {result.generator}: planned {steps}{asked}, "
+        f"{m.time_planned_s:.2f} s ({m.walking_time_planned_s:.2f} s walking, "
+        f"{standing:.2f} s standing before and after); simulated {m.time_simulated_s:.2f} s\n"
+        f"{state}; {m.steps_completed}/{m.steps_planned} steps completed, "
+        f"{m.distance_m:.3f} m (planned {m.distance_planned_m:.3f} m), yaw "
+        f"{m.yaw_change_deg:.1f} deg, foot error {_format(m.foot_position_error_cm_mean, ' cm')} "
+        f"mean, CoP margin min {format_length(m.cop_margin_min_m)}, real time "
+        f"x{_format(m.real_time_factor)}"
     )
 
 
@@ -255,18 +286,28 @@ def add_robots_parser(sub) -> argparse.ArgumentParser:
 
 
 def run_robots_command(args) -> int:
-    """Run ``mpcwalk robots``: one line per robot that loads."""
-    from mpcwalk.robot.loading import load_robot, robot_names
+    """Run ``mpcwalk robots``: one line per robot that loads.
 
-    for name in robot_names():
+    Raises:
+        ConfigurationError: No robot is installed (exit code 2 in ``main``).
+    """
+    from mpcwalk.robot.loading import PRESETS_DIR, load_robot, robot_names
+
+    names = robot_names()
+    if not names:
+        raise ConfigurationError(
+            f"No robot found: searched {PRESETS_DIR} for presets (*.toml) whose description "
+            "is installed (MJCF files in the robots folder, URDF models of the "
+            "example-robot-data package). Reinstall mpcwalk with its robot files."
+        )
+    for name in names:
         robot = load_robot(name, visual=False)
-        gait = robot.preset.gait
-        period = gait.get("step_duration")
+        period = robot.gait.step_duration
         print(
             f"{name:14s} {len(robot.joint_names):2d} joints, {robot.total_mass:6.1f} kg, CoM "
             f"height {robot.com_height:.3f} m, soles {robot.sole_size[0]:.2f} x "
             f"{robot.sole_size[1]:.2f} m, step duration "
-            f"{'0.5 (default)' if period is None else f'{period:g}'} s  "
+            f"{period:g} s  "
             f"[{robot.description_path.name}]"
         )
     return 0

@@ -7,7 +7,8 @@ from typing import Any
 import numpy as np
 
 from mpcwalk.footsteps.footstep import FootGeometry, StepTiming
-from mpcwalk.footsteps.velocity_planner import LegLimits, VelocityCommand, VelocityPlanner
+from mpcwalk.footsteps.leg_limits import LegLimits
+from mpcwalk.footsteps.velocity_planner import VelocityCommand, VelocityPlanner
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.support_margins import support_margins
 from mpcwalk.generators import make_generator, rollout
@@ -25,7 +26,9 @@ class WalkPlan:
         zmp_reference: Paper M's polygonal ZMP reference at the rollout times, shape (n, 2).
         zmp_margins: Signed ZMP distance to the support polygon, shape (n,), in [m].
         com_margins: Same for the CoM ground projection, shape (n,), in [m].
-        metrics: JSON-ready summary.
+        metrics: JSON-ready summary: ``nb_steps`` (the steps asked for), ``closing_steps``,
+            ``steps_planned`` (both), ``duration_s`` [s], planned ZMP and CoM margins
+            (``zmp_margin_min_m``, ``com_margin_min_m`` [m]), tick times [us]...
     """
 
     schedule: ContactSchedule
@@ -53,7 +56,9 @@ def plan_walk(
     Args:
         generator: Generator name (see :func:`mpcwalk.generators.generator_names`).
         command: Velocity command (vx, vy, vyaw) in the robot frame.
-        nb_steps: Number of steps.
+        nb_steps: Steps that follow the command; the planner adds a closing step that puts
+            the feet side by side (``metrics["closing_steps"]``, counted in
+            ``metrics["steps_planned"]``).
         lipm: Pendulum model.
         timing: Step timing.
         foot: Sole size (support polygons).
@@ -77,7 +82,9 @@ def plan_walk(
     ticks_us = traj.tick_times * 1e6
     metrics = {
         "generator": generator,
-        "nb_steps": plan.nb_steps,
+        "nb_steps": nb_steps,
+        "closing_steps": plan.nb_steps - nb_steps,
+        "steps_planned": plan.nb_steps,
         "command": {"vx": command.vx, "vy": command.vy, "vyaw": command.vyaw},
         "step_duration_s": timing.step_duration,
         "double_support_ratio": timing.double_support_ratio,

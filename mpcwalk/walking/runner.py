@@ -4,7 +4,7 @@
 paper M eq. 5, or from a ``.mdat`` path file, paper A), builds a
 :class:`~mpcwalk.control.controller.WalkingController` with the chosen pattern generator on the
 robot's LIPM, simulates the position-controlled robot until the schedule ends or it falls,
-and returns the per-tick log with the metrics of :mod:`mpcwalk.walking.report`.
+and returns the per-tick log with the metrics of :mod:`mpcwalk.walking.metrics`.
 
 Walking defaults come from the ``[gait]`` table of the robot's preset (step duration,
 double-support ratio, swing height, leg limits, MPC horizon); arguments override them.
@@ -13,9 +13,7 @@ double-support ratio, swing height, leg limits, MPC horizon); arguments override
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
@@ -25,75 +23,21 @@ from mpcwalk.footsteps.footstep import (
     FootGeometry,
     Footstep,
     FootstepPlan,
-    Side,
     StepTiming,
     wrap_angle,
 )
 from mpcwalk.footsteps.mdat import PathWaypoint, plan_from_path, read_mdat
 from mpcwalk.footsteps.velocity_planner import (
-    LegLimits,
     VelocityCommand,
     VelocityPlanner,
     as_velocity_command,
 )
 from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.robot.loading import Robot, load_robot
+from mpcwalk.robot import Robot, load_robot
 from mpcwalk.sim import ExternalForce, FallDetector, FallStatus, Simulation, SimulationUnstable
-from mpcwalk.walking.report import WalkLog, compute_walk_metrics, yaw_deviation_deg
-
-_LIMIT_KEYS = (
-    "max_step_forward",
-    "max_step_backward",
-    "max_step_lateral",
-    "max_step_yaw",
-    "max_step_yaw_inward",
-    "y_sep",
-    "half_stance_width",
-)
-_CONTROLLER_KEYS = ("dcm_gain", "observer_gain")
-
-
-@dataclass(frozen=True)
-class WalkResult:
-    """A simulated walk.
-
-    Attributes:
-        robot: Robot name.
-        generator: Pattern generator name.
-        schedule: Footsteps and contact phases that were followed.
-        log: Per-tick log.
-        fall: Verdict of the fall detector at the end (``fall.fell`` True: ended early).
-        metrics: JSON-ready summary (see :func:`mpcwalk.walking.report.compute_walk_metrics`).
-    """
-
-    robot: str
-    generator: str
-    schedule: ContactSchedule
-    log: WalkLog
-    fall: FallStatus
-    metrics: dict[str, Any] = field(default_factory=dict)
-
-
-def leg_limits(robot: Robot) -> LegLimits:
-    """Leg limits of the robot: its preset's ``[gait]`` values, the half stance width of its
-    nominal posture, and :class:`LegLimits` defaults for the rest."""
-    gait = robot.preset.gait
-    left, right = robot.compute_sole_placements(robot.q0)
-    half_width = 0.5 * float(np.linalg.norm(left.translation[:2] - right.translation[:2]))
-    values = {"half_stance_width": half_width}
-    values.update({key: gait[key] for key in _LIMIT_KEYS if key in gait})
-    values.setdefault("y_sep", min(LegLimits().y_sep, values["half_stance_width"]))
-    return LegLimits(**values)
-
-
-def initial_feet(robot: Robot, q: np.ndarray | None = None) -> tuple[Footstep, Footstep]:
-    """Left and right footsteps of the robot's soles at ``q`` (default ``robot.q0``)."""
-    soles = robot.compute_sole_placements(robot.q0 if q is None else q)
-    feet = []
-    for side, sole in zip((Side.LEFT, Side.RIGHT), soles):
-        yaw = math.atan2(sole.rotation[1, 0], sole.rotation[0, 0])
-        feet.append(Footstep(side, sole.translation.copy(), yaw))
-    return feet[0], feet[1]
+from mpcwalk.walking.log import WalkLog
+from mpcwalk.walking.metrics import compute_walk_metrics, yaw_deviation_deg
+from mpcwalk.walking.result import WalkConfig, WalkResult
 
 
 def _path_in_robot_frame(
@@ -150,8 +94,8 @@ def plan_walk_footsteps(
             "A walk needs either a velocity command (vx, vy, vyaw) or a .mdat path file, "
             "not both and not neither."
         )
-    left, right = initial_feet(robot)
-    limits = leg_limits(robot)
+    left, right = robot.initial_feet()
+    limits = robot.leg_limits
     if command is not None:
         if nb_steps is None:
             raise ConfigurationError(
@@ -160,17 +104,13 @@ def plan_walk_footsteps(
         return VelocityPlanner(limits, timing).plan(
             command, nb_steps, initial_left=left, initial_right=right
         )
+    if path is None:  # excluded above; narrows the type
+        raise ConfigurationError("A walk without a velocity command needs a .mdat path file.")
     waypoints = _path_in_robot_frame(read_mdat(path), left, right)
     plan = plan_from_path(waypoints, rectangle=limits.rectangle(), timing=timing)
     if nb_steps is not None and nb_steps < plan.nb_steps:
         plan = FootstepPlan(plan.initial_left, plan.initial_right, plan.steps[:nb_steps], timing)
     return plan
-
-
-def _gait_value(robot: Robot, key: str, value, default):
-    if value is not None:
-        return value
-    return robot.preset.gait.get(key, default)
 
 
 def run_walk(
@@ -187,7 +127,7 @@ def run_walk(
     control_period: float = 0.01,
     pushes: Sequence[ExternalForce] = (),
     video: str | Path | None = None,
-    progress: bool = True,
+    progress: bool = False,
     feedback: bool = True,
     generator_options: dict | None = None,
     controller_options: dict | None = None,
@@ -213,7 +153,7 @@ def run_walk(
         control_period: Controller tick [s], a multiple of the physics step.
         pushes: External forces on the robot during the walk.
         video: MP4 file to render the walk into (offscreen), or None.
-        progress: Show a progress bar.
+        progress: Show a progress bar (off: a library is quiet).
         feedback: Close the loop on the measured CoM (see the controller).
         generator_options: Keyword arguments of the generator (override the preset's).
         controller_options: Keyword arguments of the controller (override the preset's).
@@ -222,11 +162,11 @@ def run_walk(
             :class:`~mpcwalk.control.stabilizers.Stabilizer`, or None.
         arm_swing: Paper M's arm movement factor s (eq. 24-25; paper M: 0.8, 0: arms still).
         yaw_reference: With ``pushes``, also simulate the same walk without them and report
-            ``metrics["yaw_deviation_deg"]``, the largest yaw difference after the last push
+            ``metrics.yaw_deviation_deg``, the largest yaw difference after the last push
             (paper M's measure of the stabilizer); doubles the cost.
 
     Returns:
-        The walk, its log and metrics. A fall ends the run early (``result.fall``).
+        The walk, its log, metrics and configuration. A fall ends the run early (``result.fall``).
 
     Raises:
         MpcwalkError: Bad input (unknown robot or generator, infeasible command, bad file).
@@ -238,11 +178,12 @@ def run_walk(
         if isinstance(robot_name, Robot)
         else load_robot(robot_name, visual=video is not None)
     )
-    period = float(_gait_value(robot, "step_duration", step_duration, 0.5))
+    gait = robot.gait
+    period = float(gait.step_duration if step_duration is None else step_duration)
     timing = StepTiming(
         step_duration=period,
         double_support_ratio=float(
-            _gait_value(robot, "double_support_ratio", double_support_ratio, 0.2)
+            gait.double_support_ratio if double_support_ratio is None else double_support_ratio
         ),
     )
     if nb_steps is None and duration is not None:
@@ -253,7 +194,11 @@ def run_walk(
         nb_steps = max(1, int(round(duration / period)))
     plan = plan_walk_footsteps(robot, command=command, path=path, nb_steps=nb_steps, timing=timing)
     schedule = ContactSchedule(plan, FootGeometry(*robot.sole_size))
-    options = {key: robot.preset.gait[key] for key in _CONTROLLER_KEYS if key in robot.preset.gait}
+    options = {
+        key: value
+        for key, value in (("dcm_gain", gait.dcm_gain), ("observer_gain", gait.observer_gain))
+        if value is not None
+    }
     options.update(controller_options or {})
     if isinstance(stabilizer, str):
         from mpcwalk.control.stabilizers import make_stabilizer
@@ -269,7 +214,7 @@ def run_walk(
         schedule,
         control_period=control_period,
         feedback=feedback,
-        step_height=_gait_value(robot, "step_height", step_height, None),
+        step_height=gait.step_height if step_height is None else step_height,
         generator_options=generator_options,
         **options,
     )
@@ -282,31 +227,29 @@ def run_walk(
     metrics = compute_walk_metrics(
         log,
         schedule,
-        robot,
         fall=fall,
         wall_time=wall_time,
         nb_generator_failures=controller.nb_generator_failures,
+        closing_steps=1 if command is not None and plan.nb_steps else 0,
     )
-    metrics.update(
-        {
-            "generator": generator,
-            "robot": robot.name,
-            "command": None
-            if command is None
-            else {"vx": command.vx, "vy": command.vy, "vyaw": command.vyaw},
-            "path": None if path is None else str(path),
-            "step_duration_s": timing.step_duration,
-            "double_support_ratio": timing.double_support_ratio,
-            "step_height_m": controller.trajectory.step_height,
-            "com_height_m": robot.com_height,
-            "control_period_s": control_period,
-            "stabilizer": getattr(stabilizer, "name", "none"),
-            "feedback": feedback,
-            "dcm_gain": controller.dcm_feedback.dcm_gain,
-            "observer_gain": controller.dcm_feedback.observer_gain,
-            "pushes": [[p.start, p.duration, *map(float, p.force)] for p in pushes],
-            "arm_swing": float(arm_swing),
-        }
+    config = WalkConfig(
+        robot=robot.name,
+        generator=generator,
+        command=None if command is None else (command.vx, command.vy, command.vyaw),
+        path=None if path is None else str(path),
+        duration_s=None if duration is None else float(duration),
+        nb_steps=nb_steps,
+        step_duration_s=timing.step_duration,
+        double_support_ratio=timing.double_support_ratio,
+        step_height_m=controller.trajectory.step_height,
+        com_height_m=robot.com_height,
+        control_period_s=control_period,
+        stabilizer=getattr(stabilizer, "name", "none"),
+        feedback=feedback,
+        dcm_gain=controller.dcm_feedback.dcm_gain,
+        observer_gain=controller.dcm_feedback.observer_gain,
+        pushes=tuple((p.start, p.duration, *map(float, p.force)) for p in pushes),
+        arm_swing=float(arm_swing),
     )
     if yaw_reference and pushes:
         reference = run_walk(
@@ -328,8 +271,8 @@ def run_walk(
             arm_swing=arm_swing,
         )
         after = max(p.start + p.duration for p in pushes)
-        metrics["yaw_deviation_deg"] = yaw_deviation_deg(log, reference.log, after)
-    return WalkResult(robot.name, generator, schedule, log, fall, metrics)
+        metrics = metrics.with_yaw_deviation(yaw_deviation_deg(log, reference.log, after))
+    return WalkResult(robot.name, generator, schedule, log, fall, metrics, config)
 
 
 def _simulate(
@@ -361,7 +304,7 @@ def _simulate(
             recorder.capture(simulation.data, 0.0)
         while not controller.done:
             tick_start = time.perf_counter()
-            output = controller.step(state)
+            output = controller.step(state.measurements)
             sim_start = time.perf_counter()
             try:
                 state = simulation.step(output.joint_targets)

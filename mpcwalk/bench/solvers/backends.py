@@ -1,11 +1,11 @@
 """QP back-ends of the solver benchmark and their settings per tolerance level.
 
-Back-end names are those of :func:`mpcwalk.qp.make_solver`: ``"osqp-direct"``
-(OSQP through its own API, vector-only updates, warm start from the shifted
-previous solution), ``"casadi-<plugin>"`` (CasADi's conic interface),
-``"casadi-opti"`` (CasADi's Opti modelling layer, see
-:mod:`mpcwalk.bench.solvers.opti_solver`) and every name of
-``qpsolvers.available_solvers``. At the ``default`` level each back-end keeps
+Back-end names are those of the one registry of :mod:`mpcwalk.qp.solvers.registry`
+(:func:`mpcwalk.qp.make_solver`): ``"osqp-direct"`` (OSQP through its own API,
+vector-only updates, warm start from the shifted previous solution),
+``"casadi-<plugin>"`` (CasADi's conic interface), every name of
+``qpsolvers.available_solvers``, and ``"casadi-opti"`` (CasADi's Opti modelling
+layer, see :mod:`mpcwalk.bench.solvers.opti_solver`), which this module registers. At the ``default`` level each back-end keeps
 the settings a user gets without asking (for ``osqp-direct`` and the CasADi
 plugins: those of :mod:`mpcwalk.qp`); at the other levels it is asked for
 the level's absolute tolerance and no relative one, as qpbenchmark does.
@@ -15,7 +15,9 @@ Every back-end also gets the level's time limit where it takes one.
 import qpsolvers
 
 from mpcwalk.bench.solvers.tolerances import ToleranceLevel
-from mpcwalk.qp.solvers.registry import DEFINITE_SOLVERS, WARM_START_SOLVERS, QPSolver, make_solver
+from mpcwalk.qp.solvers.base import QPSolver
+from mpcwalk.qp.solvers.casadi_qp import available_plugins
+from mpcwalk.qp.solvers.registry import SOLVERS, SolverEntry, make_solver
 
 #: CasADi's modelling layer, benchmarked beside the conic plugins.
 OPTI_BACKEND = "casadi-opti"
@@ -67,14 +69,29 @@ _QPSOLVERS_TIME_LIMIT = {
 _QPSOLVERS_QUIET = {"qtqp": {"verbose": False}}
 
 
+def _make_opti(**settings) -> QPSolver:
+    from mpcwalk.bench.solvers.opti_solver import OptiSolver
+
+    return OptiSolver(**settings)
+
+
+SOLVERS.register(
+    SolverEntry(
+        OPTI_BACKEND,
+        _make_opti,
+        lambda: "qpoases" in available_plugins(),
+        "a CasADi build with the 'qpoases' conic plugin",
+        warm_start=True,
+    )
+)
+
+
 def benchmark_backends(include_opti: bool = True) -> list[str]:
     """Every back-end installed here, direct paths first.
 
     Args:
         include_opti: Add :data:`OPTI_BACKEND` (when CasADi has the qpOASES plugin).
     """
-    from mpcwalk.qp.solvers.casadi_qp import available_plugins
-
     plugins = available_plugins()
     names = ["osqp-direct"] + [f"casadi-{p}" for p in plugins]
     if include_opti and "qpoases" in plugins:
@@ -90,24 +107,18 @@ def is_applicable(backend: str, formulation: str) -> bool:
     semidefinite. Such pairs are left out of the benchmark, not counted as
     failures.
     """
-    if formulation != "sparse":
-        return True
-    from mpcwalk.qp.solvers.casadi_qp import DEFINITE_PLUGINS
-
-    if backend.startswith("casadi-"):
-        return backend[len("casadi-") :] not in DEFINITE_PLUGINS
-    return backend not in DEFINITE_SOLVERS
+    entry = SOLVERS.get(backend)
+    return formulation != "sparse" or entry is None or not entry.definite_only
 
 
 def supports_warm_start(backend: str) -> bool:
     """Whether the back-end takes an initial guess (the shifted previous solution)."""
-    if backend == "osqp-direct" or backend.startswith("casadi-"):
-        return True
-    return backend in WARM_START_SOLVERS
+    entry = SOLVERS.get(backend)
+    return entry is not None and entry.warm_start
 
 
 def backend_settings(backend: str, level: ToleranceLevel) -> dict:
-    """Keyword settings of :func:`make_backend` for ``backend`` at ``level``."""
+    """Keyword settings of the back-end ``backend`` at ``level`` (:func:`make_backend`)."""
     eps, limit = level.eps, level.runtime
     if backend == "osqp-direct":
         settings: dict = {"time_limit": limit}
@@ -129,7 +140,7 @@ def _casadi_settings(plugin: str, eps: float | None, limit: float) -> dict:
     replace the defaults of :mod:`mpcwalk.qp.solvers.casadi_qp` as a whole)."""
     if plugin == "osqp":
         # CasADi's OSQP plugin (OSQP 0.6) knows no time limit.
-        inner = {"verbose": False, "polish": False, "max_iter": 100000}
+        inner: dict[str, float | bool] = {"verbose": False, "polish": False, "max_iter": 100000}
         inner.update(
             {"eps_abs": 1e-8, "eps_rel": 1e-8} if eps is None else {"eps_abs": eps, "eps_rel": 0.0}
         )
@@ -137,10 +148,10 @@ def _casadi_settings(plugin: str, eps: float | None, limit: float) -> dict:
     if plugin == "highs":
         # No time limit: HiGHS counts it over the life of the solver object, so a
         # controller calling it every tick would hit it after the first second.
-        inner = {"output_flag": False}
+        highs: dict[str, float | bool] = {"output_flag": False}
         if eps is not None:
-            inner.update(primal_feasibility_tolerance=eps, dual_feasibility_tolerance=eps)
-        return {"highs": inner}
+            highs.update(primal_feasibility_tolerance=eps, dual_feasibility_tolerance=eps)
+        return {"highs": highs}
     if eps is None:
         return {}
     if plugin == "proxqp":  # CasADi's ProxQP plugin has no duality-gap check
@@ -154,24 +165,12 @@ def _casadi_settings(plugin: str, eps: float | None, limit: float) -> dict:
 
 
 def make_backend(backend: str, level: ToleranceLevel) -> QPSolver:
-    """A fresh back-end object configured for ``level``.
+    """A fresh back-end object from the registry, configured for ``level``.
 
     Raises:
         SolverNotFound: Unknown or uninstalled back-end.
     """
-    settings = backend_settings(backend, level)
-    if backend == OPTI_BACKEND:
-        from mpcwalk.bench.solvers.opti_solver import OptiSolver
-
-        return OptiSolver(**settings)
-    if backend.startswith("casadi-"):
-        from mpcwalk.qp.solvers.casadi_qp import CasadiSolver, available_plugins
-
-        plugin = backend[len("casadi-") :]
-        if plugin in available_plugins():
-            eps = settings.pop("eps", 1e-8)
-            return CasadiSolver(plugin, eps=eps, **settings)
-    return make_solver(backend, **settings)
+    return make_solver(backend, **backend_settings(backend, level))
 
 
 def settings_table(levels: dict[str, ToleranceLevel], backends: list[str]) -> str:

@@ -26,7 +26,7 @@ from mpcwalk.bench.solvers.problem_set import get_family, walk_schedule
 from mpcwalk.bench.solvers.tolerances import ToleranceLevel
 from mpcwalk.exceptions import MpcwalkError
 from mpcwalk.gait.support_margins import support_margins
-from mpcwalk.generators.pattern_generator import ComState
+from mpcwalk.models.com_state import ComState
 
 
 @dataclass(frozen=True)
@@ -44,7 +44,8 @@ class LoopRun:
         failures: Ticks whose solve failed.
         max_consecutive_failures: Longest run of failed solves.
         completed: Whether the walk reached its end (no fall, no give-up).
-        zmp_margin_min_m: Smallest margin of the executed ZMP, in [m].
+        zmp_margin_min_m: Smallest margin of the executed ZMP (LIPM plant) or of the
+            measured CoP (MuJoCo), in [m].
         metrics: Other walk metrics (MuJoCo runs), JSON-ready.
         error: What stopped the walk, or "".
     """
@@ -262,13 +263,13 @@ def run_mujoco_loop(
         "steps_planned",
         "steps_completed",
         "foot_position_error_cm_max",
-        "zmp_margin_min_m",
-        "zmp_margin_p05_m",
+        "cop_margin_min_m",
+        "cop_margin_p05_m",
         "com_error_rms_m",
         "real_time_factor",
         "controller_tick_us_median",
     )
-    metrics = {k: m.get(k) for k in keep}
+    metrics = {k: m[k] for k in keep}
     return LoopRun(
         "mujoco",
         backend,
@@ -280,7 +281,7 @@ def run_mujoco_loop(
         int(failed.sum()),
         worst,
         not result.fall.fell,
-        float(m.get("zmp_margin_min_m", float("nan"))),
+        float("nan") if m.cop_margin_min_m is None else m.cop_margin_min_m,
         metrics=metrics,
         error=result.fall.reason if result.fall.fell else "",
     )
@@ -323,6 +324,13 @@ def mujoco_table(runs: Sequence[dict]) -> str:
             f"{r['max_consecutive_failures']} | {fell} | "
             f"{m.get('steps_completed', '-')}/{m.get('steps_planned', '-')} | "
             f"{num(m.get('foot_position_error_cm_max'))} | "
-            f"{num(m.get('zmp_margin_p05_m'), s=1e3)} | {num(m.get('real_time_factor'))} |"
+            f"{num(_cop_margin_p05(m), s=1e3)} | {num(m.get('real_time_factor'))} |"
         )
     return "\n".join(lines)
+
+
+def _cop_margin_p05(metrics: dict) -> float | None:
+    """The CoP margin's 5th percentile [m] of a walk's metrics (``zmp_margin_p05_m`` in the
+    results written before the key said CoP)."""
+    value = metrics.get("cop_margin_p05_m")
+    return metrics.get("zmp_margin_p05_m") if value is None else value

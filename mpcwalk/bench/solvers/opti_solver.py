@@ -3,7 +3,7 @@
 Opti is how many CasADi users write an MPC. Here the decision vector is one
 Opti variable and every number of the QP is an Opti parameter: the nonzeros
 of ``P`` and ``A`` (on the fixed sparsity patterns of
-:class:`~mpcwalk.qp.WalkingQP`), ``q``, ``l`` and ``u``. Each tick sets the
+:class:`~mpcwalk.qp.program.FixedPatternProgram`), ``q``, ``l`` and ``u``. Each tick sets the
 parameter values and calls ``Opti.solve``, so the time includes Opti's own
 per-call work (``set_value``, argument assembly, the conic call through
 qpOASES) on top of the solver. Building the Opti problem (symbols) is not
@@ -14,12 +14,13 @@ one call to the next, so later solves are hot-started.
 """
 
 import time
+from typing import Any
 
 import numpy as np
 
+from mpcwalk.qp.program import FixedPatternProgram, QuadraticProgram
 from mpcwalk.qp.result import QPResult, kkt_residuals
-from mpcwalk.qp.solvers.registry import QPSolver
-from mpcwalk.qp.walking_qp import WalkingQP
+from mpcwalk.qp.solvers.base import QPSolver, fixed_pattern
 
 #: Bounds beyond this are infinite for qpOASES.
 _INFINITY = 1e20
@@ -40,13 +41,13 @@ class OptiSolver(QPSolver):
         self._ca = casadi
         self.options = {"printLevel": "none", "error_on_fail": False, **options}
         self._previous: np.ndarray | None = None
-        self._built: tuple[object, WalkingQP, dict] | None = None
+        self._built: tuple[Any, FixedPatternProgram, dict] | None = None
 
     def reset(self) -> None:
         self._previous = None
         self._built = None
 
-    def _build(self, qp: WalkingQP) -> tuple[object, dict]:
+    def _build(self, qp: FixedPatternProgram) -> tuple[Any, dict]:
         if self._built is not None and self._built[1] is qp:
             return self._built[0], self._built[2]
         ca = self._ca
@@ -69,8 +70,8 @@ class OptiSolver(QPSolver):
             "l": opti.parameter(qp.m),
             "u": opti.parameter(qp.m),
         }
-        P = ca.MX(sparsity(qp.layout.P_pattern), sym["P"])
-        A = ca.MX(sparsity(qp.layout.A_pattern), sym["A"])
+        P = ca.MX(sparsity(qp.P_pattern), sym["P"])
+        A = ca.MX(sparsity(qp.A_pattern), sym["A"])
         opti.minimize(0.5 * ca.bilin(P, x, x) + ca.dot(sym["q"], x))
         opti.subject_to(opti.bounded(sym["l"], A @ x, sym["u"]))
         opti.solver("qpoases", self.options)
@@ -79,21 +80,27 @@ class OptiSolver(QPSolver):
         return opti, sym
 
     @staticmethod
-    def _set(opti, sym: dict, qp: WalkingQP) -> None:
+    def _set(opti, sym: dict, qp: FixedPatternProgram) -> None:
         opti.set_value(sym["q"], qp.q)
         opti.set_value(sym["P"], qp.P_data)
         opti.set_value(sym["A"], qp.A_data)
         opti.set_value(sym["l"], np.maximum(qp.l, -_INFINITY))
         opti.set_value(sym["u"], np.minimum(qp.u, _INFINITY))
 
-    def solve(self, qp: WalkingQP, *, shift: float = 0.0) -> QPResult:
-        qp._require_update()
+    def check(self, qp: QuadraticProgram) -> None:
+        fixed_pattern(qp, self.name)
+
+    def solve(self, program: QuadraticProgram, *, shift: float = 0.0) -> QPResult:
+        qp = fixed_pattern(program, self.name)
+        qp.require_update()
         opti, sym = self._build(qp)
         x0 = np.zeros(qp.n) if self._previous is None else qp.shift_primal(self._previous, shift)
         start = time.perf_counter()
         self._set(opti, sym, qp)
         opti.set_initial(sym["x"], x0)
-        status, x, y = "", None, None
+        status = ""
+        x: np.ndarray | None = None
+        y: np.ndarray | None = None
         try:
             solution = opti.solve_limited()
             success = bool(opti.stats().get("success", False))
@@ -106,7 +113,7 @@ class OptiSolver(QPSolver):
         elapsed = time.perf_counter() - start
         self._previous = x
         primal, dual, gap = np.inf, None, None
-        if success:
+        if success and x is not None and y is not None:
             primal, dual, gap = kkt_residuals(qp.P, qp.q, qp.A, qp.l, qp.u, x, y)
         return QPResult(
             x=x,

@@ -1,7 +1,7 @@
 """Figures of the solver benchmark (used by the report and the notebook)."""
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 
@@ -9,7 +9,7 @@ from mpcwalk.bench.solvers.results import horizon_growth, in_set, select, solver
 from mpcwalk.bench.solvers.tolerances import LEVEL_NAMES
 
 
-def _colors(names: Sequence[str]) -> dict[str, tuple]:
+def _colors(names: Iterable[str]) -> dict[str, tuple]:
     import matplotlib.pyplot as plt
 
     cmap = plt.get_cmap("tab20")

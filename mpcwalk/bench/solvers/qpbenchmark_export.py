@@ -15,6 +15,7 @@ run the set with qpbenchmark itself (``pip install mpcwalk[bench]``).
 
 from collections.abc import Iterable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import qpsolvers
@@ -85,7 +86,7 @@ def _copy(M):
 
 def save_problem(problem: qpsolvers.Problem, path: Path) -> None:
     """Save in ``qpsolvers.Problem.save``'s layout, compressed."""
-    arrays = {}
+    arrays: dict[str, Any] = {}
     for key in PROBLEM_KEYS:
         value = getattr(problem, key)
         if value is None:

@@ -20,9 +20,14 @@ from mpcwalk.bench.solvers.plots import (
     save_figure,
 )
 from mpcwalk.bench.solvers.problem_set import PENDING_FAMILIES, get_family
+from mpcwalk.bench.solvers.report_scaling import (
+    growth_headline,
+    growth_section,
+    markdown_table,
+    ticks_section,
+)
 from mpcwalk.bench.solvers.results import (
     format_time,
-    horizon_growth,
     in_set,
     select,
     shgeom_runtimes,
@@ -31,28 +36,6 @@ from mpcwalk.bench.solvers.results import (
     timing_stats,
 )
 from mpcwalk.bench.solvers.tolerances import LEVEL_NAMES, tolerance_levels
-
-#: Sparse back-ends that exploit the structure (sparse factorisations).
-STRUCTURE_EXPLOITING = (
-    "osqp-direct",
-    "osqp",
-    "casadi-osqp",
-    "qpalm",
-    "piqp",
-    "clarabel",
-    "proxqp",
-    "casadi-qrqp",
-    "scs",
-    "sip",
-    "qtqp",
-    "cvxopt",
-)
-
-
-def _table(header: list[str], rows: list[list[str]]) -> str:
-    lines = ["| " + " | ".join(header) + " |", "|---" * len(header) + "|"]
-    lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
-    return "\n".join(lines)
 
 
 def _label(solver: str) -> str:
@@ -89,7 +72,9 @@ def problems_section(rows: list[dict], config: SolverBenchConfig, extras: dict) 
                 len({r["problem"] for r in sel}),
             ]
         )
-    text = _table(["family", "QP", "horizon", "timing", "variables x rows", "problems"], body)
+    text = markdown_table(
+        ["family", "QP", "horizon", "timing", "variables x rows", "problems"], body
+    )
     dropped = [n for p in extras.get("prepared", []) for n in p["dropped"]]
     sweep = sorted({r["horizon"] for r in in_set(rows, "sweep")})
     text += (
@@ -123,7 +108,7 @@ def success_section(rows: list[dict], config: SolverBenchConfig) -> str:
             body = [[_label(s)] + [_pct(rates[s][lv]) for lv in levels] for s in rates]
             parts.append(
                 f"**{formulation}, {start} start** (success [%])\n\n"
-                + _table(["back-end"] + levels, body)
+                + markdown_table(["back-end"] + levels, body)
             )
     return "\n\n".join(parts)
 
@@ -153,7 +138,7 @@ def shgeom_section(rows: list[dict], config: SolverBenchConfig) -> str:
             body.sort(key=lambda r: float(r[1].split()[0]) if r[1] != "-" else math.inf)
             parts.append(
                 f"**{formulation}, {start} start**: relative to the best "
-                "(absolute mean)\n\n" + _table(["back-end"] + levels, body)
+                "(absolute mean)\n\n" + markdown_table(["back-end"] + levels, body)
             )
     return "\n\n".join(parts)
 
@@ -178,7 +163,7 @@ def family_section(rows: list[dict], config: SolverBenchConfig, level: str) -> s
         body.sort(key=lambda r: (r[1], _sort_time(r[2])))
         parts.append(
             f"**{formulation}** (median / p99 of successful solves, successes/solves)"
-            "\n\n" + _table(["back-end", "start"] + list(config.families), body)
+            "\n\n" + markdown_table(["back-end", "start"] + list(config.families), body)
         )
     return "\n\n".join(parts)
 
@@ -189,121 +174,6 @@ def _sort_time(cell: str) -> float:
         return math.inf
     value, unit = head.split()
     return float(value) * {"us": 1e-6, "ms": 1e-3, "s": 1.0}[unit]
-
-
-def growth_section(rows: list[dict], config: SolverBenchConfig) -> str:
-    sweep = in_set(rows, "sweep")
-    parts = []
-    for level, start in [(lv, st) for lv in config.sweep_levels for st in config.sweep_starts]:
-        growth = horizon_growth(sweep, level=level, start=start, min_horizon=64)
-        if not growth:
-            continue
-        horizons = sorted({h for g in growth.values() for h in g["horizons"]})
-        body = []
-        for (form, solver), g in sorted(
-            growth.items(), key=lambda kv: (kv[0][0], _finite(kv[1]["exponent_tail"]))
-        ):
-            med = dict(zip(g["horizons"], g["medians"]))
-            body.append(
-                [form, solver]
-                + [format_time(med.get(h)) for h in horizons]
-                + [_exp(g["exponent"]), _exp(g["exponent_tail"])]
-            )
-        parts.append(
-            f"**{level} settings, {start} start** (median of successful solves; exponent "
-            "of a power-law fit over all horizons, and over N >= 64)\n\n"
-            + _table(
-                ["formulation", "back-end"]
-                + [f"N={h}" for h in horizons]
-                + ["exponent", "exponent N>=64"],
-                body,
-            )
-        )
-    return "\n\n".join(parts)
-
-
-def _finite(v: float) -> float:
-    return v if math.isfinite(v) else math.inf
-
-
-def _exp(v: float) -> str:
-    return f"{v:.2f}" if math.isfinite(v) else "-"
-
-
-def growth_headline(rows: list[dict], level: str) -> str:
-    growth = horizon_growth(in_set(rows, "sweep"), level=level, start="cold", min_horizon=64)
-    key = "exponent_tail"
-    if not any(math.isfinite(g[key]) for g in growth.values()):
-        key = "exponent"  # fewer than 3 horizons from 64 on: fit over all of them
-    span = "N >= 64" if key == "exponent_tail" else "all horizons"
-    best, dense = {}, {}
-    for (form, solver), g in growth.items():
-        e = g[key]
-        if math.isfinite(e) and (form not in best or e < best[form][1]):
-            best[form] = (solver, e)
-    if not best:
-        return "growth with the horizon: not enough horizons to fit"
-    text = ", ".join(f"{form} {solver} {e:.2f}" for form, (solver, e) in sorted(best.items()))
-    exploit = [
-        (g[key], s)
-        for (f, s), g in growth.items()
-        if f == "sparse" and s in STRUCTURE_EXPLOITING and math.isfinite(g[key])
-    ]
-    linear = sorted(s for e, s in exploit if e <= 1.05)
-    goal = (
-        f"goal met: {len(linear)} structure-exploiting back-ends grow at most linearly "
-        f"(exponent <= 1.05) on the sparse formulation ({', '.join(linear)})"
-        if linear
-        else "goal NOT met: no structure-exploiting back-end grows linearly on the sparse "
-        "formulation"
-    )
-    for (form, solver), g in growth.items():
-        if form == "dense" and math.isfinite(g[key]):
-            dense[solver] = g[key]
-    dense_text = (
-        f"; dense exponents range from {min(dense.values()):.2f} to {max(dense.values()):.2f}"
-        if dense
-        else ""
-    )
-    return f"smallest exponents ({span}, {level} settings): {text}{dense_text}; {goal}"
-
-
-def ticks_section(extras: dict) -> str:
-    ticks = extras.get("ticks")
-    if not ticks:
-        return "Not run (`--no-ticks`)."
-    from mpcwalk.bench.ticks import TickCase, format_table
-
-    cases = [TickCase(**t) for t in ticks]
-    return format_table(cases) + "\n\n" + ticks_headline(ticks)
-
-
-def ticks_headline(ticks: list[dict]) -> str:
-    ok = [t for t in ticks if not t["error"]]
-    analytic = next((t for t in ok if t["generator"] == "analytic"), None)
-    mpc = [t for t in ok if t["generator"] == "mpc"]
-    peers = [t for t in ok if t["generator"] == "qpmpc"]
-    if not (analytic and mpc):
-        return ""
-    best = min(mpc, key=lambda t: t["median_us"])
-    text = (
-        f"Fastest MPC tick: `{best['label']}` {best['median_us']:.0f} us median, "
-        f"{best['median_us'] / analytic['median_us']:.1f}x the closed form "
-        f"({analytic['median_us']:.0f} us)"
-    )
-    if peers:
-        peer = min(peers, key=lambda t: t["median_us"])
-        text += (
-            f", {peer['median_us'] / best['median_us']:.1f}x faster than the fastest "
-            f"qpmpc tick (`{peer['label']}`, {peer['median_us']:.0f} us)"
-        )
-        same = next((t for t in peers if t["solver"] == best["solver"]), None)
-        if same is not None and same is not peer:
-            text += (
-                f" and {same['median_us'] / best['median_us']:.1f}x faster than qpmpc on "
-                f"the same back-end ({same['median_us']:.0f} us)"
-            )
-    return text + " (same run)."
 
 
 def write_report(out_dir: Path, rows: list[dict], config: SolverBenchConfig, extras: dict) -> Path:
@@ -383,4 +253,6 @@ def _warm_cold(rows: list[dict], config: SolverBenchConfig) -> str:
                     f"{ratio:.2f}" if math.isfinite(ratio) else "-",
                 ]
             )
-    return _table(["formulation", "back-end", "cold median", "warm median", "warm / cold"], body)
+    return markdown_table(
+        ["formulation", "back-end", "cold median", "warm median", "warm / cold"], body
+    )

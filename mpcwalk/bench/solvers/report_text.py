@@ -38,10 +38,10 @@ def headline(
         if not sel:
             continue
         levels = [lv for lv in config.levels if select(sel, tolerance=lv)]
-        rates = success_rates(sel, levels)[name]
+        solver_rates = success_rates(sel, levels)[name]
         out.append(
             f"{name} success per level (cold, both formulations): "
-            + ", ".join(f"{lv} {rates[lv]:.0f}%" for lv in levels)
+            + ", ".join(f"{lv} {solver_rates[lv]:.0f}%" for lv in levels)
         )
     warm = [
         r

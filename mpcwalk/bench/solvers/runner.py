@@ -16,6 +16,7 @@ are timed:
 5. the report and its figures.
 """
 
+import importlib
 import json
 import multiprocessing
 import os
@@ -25,6 +26,7 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -37,32 +39,18 @@ from mpcwalk.bench.solvers.backends import (
 )
 from mpcwalk.bench.solvers.case_runner import SolverCase
 from mpcwalk.bench.solvers.config import SolverBenchConfig
-from mpcwalk.bench.solvers.problem_set import (
-    WalkingProblem,
-    get_family,
-    reference_walk,
-    sample_problems,
+from mpcwalk.bench.solvers.problem_set import WalkingProblem, get_family
+from mpcwalk.bench.solvers.results import RESULTS_FILE, write_results
+from mpcwalk.bench.solvers.sampling import reference_walk, sample_problems
+from mpcwalk.bench.solvers.side_runs import (
+    fast_qpsolvers,
+    run_isolated,
+    run_loops,
+    run_qpbenchmark_isolated,
+    tick_benchmark,
 )
-from mpcwalk.bench.solvers.results import RESULTS_FILE, select, write_results
-from mpcwalk.bench.solvers.timed_pool import TimedPool, single_thread_environment
+from mpcwalk.bench.solvers.timed_pool import TimedPool
 from mpcwalk.bench.solvers.tolerances import select_levels
-
-#: qpsolvers back-ends left out of the reduced qpbenchmark run by default
-#: (JAX-based: each solve recompiles, seconds per problem).
-SLOW_QPBENCHMARK_SOLVERS = ("jaxopt_osqp", "qpax")
-
-
-def _silence_stdout() -> None:  # pragma: no cover - runs in the child
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    os.dup2(devnull, 1)
-
-
-def run_isolated(function, *args, **kwargs):
-    """Call ``function`` in a fresh single-threaded process (timed work)."""
-    context = multiprocessing.get_context("spawn")
-    with single_thread_environment():
-        with ProcessPoolExecutor(1, mp_context=context, initializer=_silence_stdout) as pool:
-            return pool.submit(function, *args, **kwargs).result()
 
 
 def _reference_found(problem: WalkingProblem) -> bool:
@@ -101,7 +89,8 @@ def prepare_walk(family: str, walk: str, config: SolverBenchConfig) -> dict:
     pushed = list(dict.fromkeys(p.tick for p in problems if p.pushed))
     sweep_keys = {(t, False) for t in nominal[: config.sweep_nb_nominal]}
     sweep_keys |= {(t, True) for t in pushed[: config.sweep_nb_pushed]}
-    kept, dropped = [], []
+    kept: list[tuple[WalkingProblem, str]] = []
+    dropped: list[tuple[WalkingProblem, str]] = []
     for p in problems:
         tags = ["main"] if p.horizon == main_horizon else []
         tags += ["sweep"] if sweep and (p.tick, p.pushed) in sweep_keys else []
@@ -125,7 +114,7 @@ def make_cases(
     main_levels = select_levels(config.levels, config.time_limit)
     main_starts, sweep_starts = config.starts, config.sweep_starts
     sweep_levels = select_levels(config.sweep_levels, config.time_limit)
-    sampled = {}  # family -> the one problem given to known slow back-ends
+    sampled: dict[str, str] = {}  # family -> the one problem given to known slow back-ends
     for problem, tag in problems:
         if "main" in tag.split("+") and not problem.pushed:
             sampled.setdefault(problem.family, problem.name)
@@ -170,8 +159,7 @@ def machine_summary() -> str:
     """CPU, cores, Python."""
     cpu = platform.processor() or platform.machine()
     try:
-        import cpuinfo
-
+        cpuinfo = importlib.import_module("cpuinfo")  # optional, untyped
         cpu = cpuinfo.get_cpu_info().get("brand_raw", cpu)
     except Exception:
         pass
@@ -247,15 +235,15 @@ def run_solver_benchmark(
     }
     if config.ticks:
         t0 = time.perf_counter()
-        extras["ticks"] = run_isolated(_tick_benchmark, _fast_qpsolvers(rows, config), config)
+        extras["ticks"] = run_isolated(tick_benchmark, fast_qpsolvers(rows, config), config)
         durations["ticks"] = time.perf_counter() - t0
     if loops:
         t0 = time.perf_counter()
-        extras["loops"] = _run_loops(rows, config, progress)
+        extras["loops"] = run_loops(rows, config, progress)
         durations["loops"] = time.perf_counter() - t0
     if qpbenchmark_run and nb_exported:
         t0 = time.perf_counter()
-        extras["qpbenchmark"] = _run_qpbenchmark(out_dir, config)
+        extras["qpbenchmark"] = run_qpbenchmark_isolated(out_dir, config)
         durations["qpbenchmark"] = time.perf_counter() - t0
     extras["durations"] = durations
     extras["machine"] = machine_summary()
@@ -281,140 +269,8 @@ def rewrite_report(out_dir: Path) -> Path:
 
     out_dir = Path(out_dir)
     extras = json.loads((out_dir / "extras.json").read_text())
-    fields = {
+    fields: dict[str, Any] = {
         k: tuple(v) if isinstance(v, list) else v for k, v in extras.get("config", {}).items()
     }
     config = SolverBenchConfig(**fields)
     return write_report(out_dir, read_results(out_dir / RESULTS_FILE), config, extras)
-
-
-def _fast_qpsolvers(rows: list[dict], config: SolverBenchConfig, limit: float = 2e-3) -> list[str]:
-    """qpsolvers back-ends whose median on the mpc family's dense QP is under ``limit``."""
-    import qpsolvers
-
-    sel = select(
-        rows, family="mpc", formulation="dense", tolerance="default", start="cold", success=True
-    )
-    fast = []
-    for solver in qpsolvers.available_solvers:
-        times = [r["runtime"] for r in sel if r["solver"] == solver and "main" in r["set"]]
-        if times and np.median(times) < limit:
-            fast.append(solver)
-    return fast
-
-
-def _tick_benchmark(solvers: list[str], config: SolverBenchConfig) -> list[dict]:
-    from mpcwalk.bench.ticks import run_tick_benchmark
-
-    results = run_tick_benchmark(
-        nb_steps=config.nb_steps,
-        control_period=config.control_period,
-        solvers=solvers,
-        include_peer=True,
-        progress=False,
-    )
-    return [asdict(r) for r in results]
-
-
-def _loop_candidates(rows: list[dict], config: SolverBenchConfig) -> list[tuple[str, str]]:
-    """(back-end, formulation) pairs fast enough on the loop's QP (family mpc)."""
-    out = []
-    sel = select(rows, family="mpc", tolerance="default", success=True)
-    for formulation in config.formulations:
-        for backend in dict.fromkeys(r["solver"] for r in sel):
-            if backend == OPTI_BACKEND:
-                continue
-            mine = [
-                r
-                for r in sel
-                if r["solver"] == backend and r["formulation"] == formulation and "main" in r["set"]
-            ]
-            warm = [r["runtime"] for r in mine if r["start"] == "warm"]
-            times = warm or [r["runtime"] for r in mine]
-            if times and np.median(times) < config.loop_backends_max_time:
-                out.append((backend, formulation))
-    return out
-
-
-def _loop_batch(
-    pairs: list[tuple[str, str]], config: SolverBenchConfig, progress: bool = False
-) -> list[dict]:
-    from tqdm import tqdm
-
-    from mpcwalk.bench.solvers.in_loop import run_lipm_loop, run_mujoco_loop
-    from mpcwalk.bench.solvers.tolerances import tolerance_levels
-
-    level = tolerance_levels(config.time_limit)["default"]
-    out: dict[str, list[dict]] = {"lipm": [], "mujoco": []}
-    for backend, formulation in tqdm(pairs, desc="loops", disable=not progress):
-        runs = [
-            run_lipm_loop(
-                backend,
-                formulation,
-                level,
-                nb_steps=config.loop_nb_steps,
-                control_period=config.control_period,
-                nb_pushes=config.loop_pushes,
-                push_speed=config.loop_push_speed,
-                seed=config.seed,
-            )
-        ]
-        if config.mujoco_robot:
-            runs.append(
-                run_mujoco_loop(
-                    backend,
-                    formulation,
-                    level,
-                    robot=config.mujoco_robot,
-                    nb_steps=config.loop_nb_steps,
-                    control_period=config.control_period,
-                )
-            )
-        for run in runs:
-            if run is None:
-                continue
-            summary = run.summary()
-            summary["solve_times_us"] = [round(t * 1e6, 1) for t in run.solve_times]
-            out[run.plant].append(summary)
-    return out
-
-
-def _run_loops(rows: list[dict], config: SolverBenchConfig, progress: bool) -> dict:
-    from mpcwalk.bench.solvers.in_loop import mujoco_walk_runner
-
-    pairs = _loop_candidates(rows, config)
-    runs = run_isolated(_loop_batch, pairs, config, progress) if pairs else {}
-    return {
-        "lipm": runs.get("lipm", []),
-        "mujoco": runs.get("mujoco", []),
-        "mujoco_available": mujoco_walk_runner() is not None,
-        "mujoco_robot": config.mujoco_robot,
-    }
-
-
-def _qpbenchmark_batch(out_dir: Path, config: SolverBenchConfig) -> dict:
-    import qpsolvers
-
-    from mpcwalk.bench.solvers.qpbenchmark_export import run_qpbenchmark
-
-    solvers = config.qpbenchmark_solvers
-    if solvers is None:
-        solvers = [s for s in qpsolvers.available_solvers if s not in SLOW_QPBENCHMARK_SOLVERS]
-    summary = run_qpbenchmark(
-        out_dir / "qpbenchmark", solvers=solvers, time_limit=config.time_limit
-    )
-    import qpbenchmark
-
-    summary["solvers"] = list(solvers)
-    summary["version"] = qpbenchmark.__version__
-    return summary
-
-
-def _run_qpbenchmark(out_dir: Path, config: SolverBenchConfig) -> dict | None:
-    try:
-        import qpbenchmark  # noqa: F401
-    except ImportError:
-        return {"error": "qpbenchmark is not installed: pip install 'mpcwalk[bench]'"}
-    if config.qpbenchmark_solvers == ():
-        return None
-    return run_isolated(_qpbenchmark_batch, out_dir, config)

@@ -21,34 +21,10 @@ from collections.abc import Callable, Iterable
 from multiprocessing.connection import wait
 
 from mpcwalk.bench.solvers.case_runner import CaseRunner, SolverCase, make_row
+from mpcwalk.walking.processes import single_thread_environment
 
-#: Environment of the workers: one thread per numerical library.
-SINGLE_THREAD_ENV = {
-    "OMP_NUM_THREADS": "1",
-    "OPENBLAS_NUM_THREADS": "1",
-    "MKL_NUM_THREADS": "1",
-    "RAYON_NUM_THREADS": "1",
-    "VECLIB_MAXIMUM_THREADS": "1",
-    "NUMEXPR_NUM_THREADS": "1",
-    "XLA_FLAGS": "--xla_cpu_multi_thread_eigen=false intra_op_parallelism_threads=1",
-}
 #: Timeouts in a group after which the rest of the group is skipped.
 TIMEOUTS_BEFORE_SKIP = 2
-
-
-@contextlib.contextmanager
-def single_thread_environment():
-    """Set :data:`SINGLE_THREAD_ENV` while child processes are started."""
-    saved = {k: os.environ.get(k) for k in SINGLE_THREAD_ENV}
-    os.environ.update(SINGLE_THREAD_ENV)
-    try:
-        yield
-    finally:
-        for key, value in saved.items():
-            if value is None:
-                os.environ.pop(key, None)
-            else:
-                os.environ[key] = value
 
 
 def _worker_main(conn) -> None:  # pragma: no cover - runs in the child

@@ -68,8 +68,9 @@ class ToleranceLevel:
         runtime: float,
     ) -> bool:
         """qpbenchmark's success test (missing residuals fail it), plus the time limit."""
-        values = (primal, dual, gap)
-        if not found or any(v is None or not math.isfinite(v) for v in values):
+        if not found or primal is None or dual is None or gap is None:
+            return False
+        if not all(math.isfinite(v) for v in (primal, dual, gap)):
             return False
         return (
             primal < self.primal

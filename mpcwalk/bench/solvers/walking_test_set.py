@@ -22,6 +22,7 @@ class WalkingTestSet(qpbenchmark.TestSet):
 
     data_dir: str | Path = ""
     time_limit: float = 1.0
+    solvers: set[str]
 
     def __init__(
         self,

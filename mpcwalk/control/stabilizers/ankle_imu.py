@@ -17,9 +17,11 @@ import math
 
 import numpy as np
 
-from mpcwalk.control.stabilizers import Stabilizer
+from mpcwalk.control.stabilizers.base import Stabilizer, StabilizerInput
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Side
+from mpcwalk.robot.robot import Robot
+from mpcwalk.robot.sensors import ImuReading
 
 
 class AnkleImuStabilizer(Stabilizer):
@@ -67,32 +69,41 @@ class AnkleImuStabilizer(Stabilizer):
         self.kp, self.ki, self.kd = float(kp), float(ki), float(kd)
         self.imu_gain, self.imu_cutoff = float(imu_gain), float(imu_cutoff)
         self.max_correction, self.integral_limit = float(max_correction), float(integral_limit)
-        self._joints = None
-        self.reset(None)
+        self._joints: dict[Side, tuple[int, int]] | None = None
+        self._clear()
 
-    def reset(self, controller) -> None:
+    def _clear(self) -> None:
         self.integral = np.zeros(3)
         self.previous_error: np.ndarray | None = None
         self.inclination = np.zeros(2)  # filtered (roll, pitch) [rad]
         self.last_correction = np.zeros(4)  # left pitch, left roll, right pitch, right roll
-        if controller is not None:
-            names = controller.robot.joint_names
-            try:
-                self._joints = {
-                    side: (
-                        names.index(f"{side.value}_ankle_pitch"),
-                        names.index(f"{side.value}_ankle_roll"),
-                    )
-                    for side in Side
-                }
-            except ValueError:
-                raise ConfigurationError(
-                    f"The ankle-imu stabilizer needs joints '<side>_ankle_pitch' and "
-                    f"'<side>_ankle_roll'; robot '{controller.robot.name}' has "
-                    f"{', '.join(names)}."
-                ) from None
 
-    def _filter(self, imu, reference_base_quaternion, dt: float) -> np.ndarray:
+    def reset(self, inputs: StabilizerInput) -> None:
+        """Forget the filter and PID states; find the ankle joints of ``inputs.robot``."""
+        self._clear()
+        self._joints = self._ankle_joints(inputs.robot)
+
+    @staticmethod
+    def _ankle_joints(robot: Robot) -> dict[Side, tuple[int, int]]:
+        """Indices of each side's ankle pitch and roll joints in ``robot.joint_names``."""
+        names = list(robot.joint_names)
+        try:
+            return {
+                side: (
+                    names.index(f"{side.value}_ankle_pitch"),
+                    names.index(f"{side.value}_ankle_roll"),
+                )
+                for side in Side
+            }
+        except ValueError:
+            raise ConfigurationError(
+                f"The ankle-imu stabilizer needs joints '<side>_ankle_pitch' and "
+                f"'<side>_ankle_roll'; robot '{robot.name}' has {', '.join(names)}."
+            ) from None
+
+    def _filter(
+        self, imu: ImuReading, reference_base_quaternion: np.ndarray, dt: float
+    ) -> np.ndarray:
         """Low-pass filtered body inclination (roll, pitch) [rad] relative to the reference
         base orientation (the IK's, pinocchio quaternion x, y, z, w)."""
         x, y, z, w = (float(c) for c in reference_base_quaternion)
@@ -103,22 +114,24 @@ class AnkleImuStabilizer(Stabilizer):
         self.inclination += alpha * (error - self.inclination)
         return self.inclination
 
-    def adjust_joint_targets(self, controller, t, joint_targets, feet, measurement):
-        positions = getattr(measurement, "sole_positions", None)
-        sensors = getattr(measurement, "measurements", None)
-        if positions is None or sensors is None or self._joints is None:
+    def adjust_joint_targets(
+        self, inputs: StabilizerInput, joint_targets: np.ndarray
+    ) -> np.ndarray:
+        """Servo targets plus the ankle corrections of the feet in contact (unchanged
+        without measurements)."""
+        sensors = inputs.measurements
+        if sensors is None or self._joints is None:
             return joint_targets
-        dt = controller.control_period
-        roll, pitch = self._filter(sensors.imu, controller.q_ref[3:7], dt)
+        positions, feet = sensors.sole_positions, inputs.targets.feet
+        dt = inputs.control_period
+        roll, pitch = self._filter(sensors.imu, inputs.q_ref[3:7], dt)
         contacts = feet.contact_sides
         if not contacts:
             return joint_targets
         # error: rotation taking the measured sole->CoM vector onto the reference one
-        weights = dict(
-            zip(Side, controller.support_weights(controller.last_output.zmp_command, feet))
-        )
+        weights = dict(zip(Side, inputs.support_weights))
         error = np.zeros(3)
-        com_ref = controller.last_output.com_target
+        com_ref = inputs.com_reference
         for side in contacts:
             index = 0 if side is Side.LEFT else 1
             v_meas = sensors.com - positions[index]
@@ -137,7 +150,7 @@ class AnkleImuStabilizer(Stabilizer):
         command += self.imu_gain * np.array([-roll, -pitch, 0.0])
         out = np.array(joint_targets, dtype=float, copy=True)
         self.last_correction = np.zeros(4)
-        rotations = measurement.sole_rotations
+        rotations = sensors.sole_rotations
         for side in contacts:
             index = 0 if side is Side.LEFT else 1
             pitch_joint, roll_joint = self._joints[side]

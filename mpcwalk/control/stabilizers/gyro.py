@@ -26,8 +26,9 @@ import math
 import numpy as np
 import pinocchio as pin
 
-from mpcwalk.control.stabilizers import Stabilizer
+from mpcwalk.control.stabilizers.base import Stabilizer, StabilizerInput
 from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.robot.robot import Robot
 
 #: Paper M's gains [s]: hip roll, hip pitch, knee, foot pitch, foot roll.
 PAPER_M_GAINS = {
@@ -114,7 +115,7 @@ class GyroStabilizer(Stabilizer):
         self.last_offsets = np.zeros(0)
 
     @staticmethod
-    def _leg_joints(robot) -> list[tuple[str, int, str]]:
+    def _leg_joints(robot: Robot) -> list[tuple[str, int, str]]:
         """(gain name, joint index in robot.joint_names, joint name) of both legs."""
         names = list(robot.joint_names)
         found, missing = [], []
@@ -134,11 +135,14 @@ class GyroStabilizer(Stabilizer):
             )
         return found
 
-    def reset(self, controller) -> None:
+    def reset(self, inputs: StabilizerInput) -> None:
+        """Find the leg joints of ``inputs.robot`` and the signs of their offsets."""
+        self.calibrate(inputs.robot)
+
+    def calibrate(self, robot: Robot) -> None:
+        """Find the leg joints of ``robot`` and the signs of their offsets (from their axes at
+        the nominal posture); forget the last rates."""
         self.last_rates = np.zeros(2)
-        if controller is None:
-            return
-        robot = controller.robot
         model, data = robot.model, robot.model.createData()
         q0 = robot.q0
         pin.computeJointJacobians(model, data, q0)
@@ -165,11 +169,14 @@ class GyroStabilizer(Stabilizer):
         )
         return dict(zip(self._indices.tolist(), values.tolist()))
 
-    def adjust_joint_targets(self, controller, t, joint_targets, feet, measurement):
-        sensors = getattr(measurement, "measurements", None)
-        imu: object | None = getattr(sensors, "imu", None)
-        if imu is None or not len(self._indices):
+    def adjust_joint_targets(
+        self, inputs: StabilizerInput, joint_targets: np.ndarray
+    ) -> np.ndarray:
+        """Servo targets plus the offsets of the torso's measured roll and pitch rates
+        (unchanged without measurements)."""
+        if inputs.measurements is None or not len(self._indices):
             return joint_targets
+        imu = inputs.measurements.imu
         self.last_rates = heading_rates(imu.gyro, imu.quaternion)
         values = np.clip(self._coefficients @ self.last_rates, -self.max_offset, self.max_offset)
         self.last_offsets = values

@@ -5,7 +5,7 @@ before the first step, then for each step ``LIFT_<side>`` from the start of the 
 middle of its single support (weight shift and lift) and ``LOWER_<side>`` until the end of
 the step (lowering and weight transfer), and ``DONE`` after the last step.
 
-As a :class:`~mpcwalk.control.stabilizers.Stabilizer` it re-aims every step (paper A, sec. 3.3): when
+As a :class:`~mpcwalk.control.stabilizers.base.Stabilizer` it re-aims every step (paper A, sec. 3.3): when
 the single support of step ``k`` begins, the step's global target is taken into the frame of
 the *measured* support foot (its yaw from the IMU, or from the sole), clamped into the
 reachability rectangle, and the landing is carried into the controller's kinematic reference
@@ -21,13 +21,14 @@ from enum import Enum
 
 import numpy as np
 
-from mpcwalk.control.stabilizers import Stabilizer
+from mpcwalk.control.stabilizers.base import GaitTargets, Stabilizer, StabilizerInput
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Footstep, Side, wrap_angle
 from mpcwalk.footsteps.reachability import ATLAS_REACHABILITY, ReachabilityRectangle
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.interpolation import step_interpolation
 from mpcwalk.gait.swing_foot import FeetState, FootState
+from mpcwalk.robot.sensors import Measurements
 
 
 class GaitState(str, Enum):
@@ -98,8 +99,9 @@ class PaperAStateMachine(Stabilizer):
         """Re-aimed world landings, one per step (measured support frame, clamped)."""
         self.nb_clamped = 0
 
-    def reset(self, controller) -> None:
-        self.schedule = controller.schedule if controller is not None else self.schedule
+    def reset(self, inputs: StabilizerInput) -> None:
+        """Start over at ``BEGIN`` on the schedule of ``inputs``."""
+        self.schedule = inputs.schedule
         self._reset_state()
 
     def state_at(self, t: float) -> GaitState:
@@ -134,7 +136,7 @@ class PaperAStateMachine(Stabilizer):
     def _require_schedule(self) -> ContactSchedule:
         if self.schedule is None:
             raise ConfigurationError(
-                "PaperAStateMachine needs a schedule: call reset(controller) or set .schedule."
+                "PaperAStateMachine needs a schedule: call reset(inputs) or set .schedule."
             )
         return self.schedule
 
@@ -162,23 +164,29 @@ class PaperAStateMachine(Stabilizer):
             [xy_ref[0] - goal.xy[0], xy_ref[1] - goal.xy[1], float(wrap_angle(yaw_ref - goal.yaw))]
         )
 
-    def _measured_support(self, controller, side: Side, measurement) -> Footstep:
+    def _measured_support(
+        self, inputs: StabilizerInput, side: Side, measurements: Measurements
+    ) -> Footstep:
         index = 0 if side is Side.LEFT else 1
-        position = np.array(measurement.sole_positions[index], dtype=float)
-        yaw = float(measurement.sole_yaws[index])
-        imu = getattr(getattr(measurement, "measurements", None), "imu", None)
-        if self.yaw_source == "imu" and imu is not None:
-            q_ref = controller.q_ref  # reference base yaw vs reference sole yaw
+        position = np.array(measurements.sole_positions[index], dtype=float)
+        yaw = float(measurements.sole_yaws[index])
+        if self.yaw_source == "imu":
+            q_ref = inputs.q_ref  # reference base yaw vs reference sole yaw
             base_rotation = _quaternion_xyzw_matrix(q_ref[3:7])
-            sole_ref = controller.robot.compute_sole_placements(q_ref)[index]
-            yaw = imu.yaw + float(wrap_angle(_yaw_of(sole_ref.rotation) - _yaw_of(base_rotation)))
+            sole_ref = inputs.robot.compute_sole_placements(q_ref)[index]
+            yaw = measurements.imu.yaw + float(
+                wrap_angle(_yaw_of(sole_ref.rotation) - _yaw_of(base_rotation))
+            )
         return Footstep(side, position, float(wrap_angle(yaw)))
 
-    def adjust_targets(self, controller, t, feet: FeetState, com_xy, torso_yaw, measurement):
+    def adjust_targets(self, inputs: StabilizerInput) -> GaitTargets:
+        """The targets moved by the offsets of the re-aimed landings (see the module)."""
+        t, targets = inputs.time, inputs.targets
+        feet, com_xy, torso_yaw = targets.feet, targets.com_xy, targets.torso_yaw
         state = self.update(t)
         schedule = self._require_schedule()
         if not self.reaim or state in (GaitState.BEGIN,):
-            return feet, com_xy, torso_yaw
+            return targets
         k = feet.step_index
         swing = schedule.plan.steps[k].side if 0 <= k < schedule.plan.nb_steps else None
         h = 1.0
@@ -191,13 +199,10 @@ class PaperAStateMachine(Stabilizer):
                     schedule.t_e / schedule.step_duration,
                 )
             )
-            if (
-                self._aimed_step < k
-                and not feet[swing].in_contact
-                and getattr(measurement, "sole_positions", None) is not None
-            ):
+            measurements = inputs.measurements
+            if self._aimed_step < k and not feet[swing].in_contact and measurements is not None:
                 self._lift_offset = self.offsets[swing].copy()
-                support = self._measured_support(controller, swing.other, measurement)
+                support = self._measured_support(inputs, swing.other, measurements)
                 self.offsets[swing] = self.aim_step(k, support)
                 self._aimed_step = k
         current = {}
@@ -208,7 +213,7 @@ class PaperAStateMachine(Stabilizer):
                 current[side] = self.offsets[side]
         states = {side: _moved(feet[side], current[side]) for side in Side}
         mean = 0.5 * (current[Side.LEFT] + current[Side.RIGHT])
-        return (
+        return GaitTargets(
             FeetState(feet.time, feet.step_index, states[Side.LEFT], states[Side.RIGHT]),
             np.asarray(com_xy) + mean[:2],
             torso_yaw + float(mean[2]),

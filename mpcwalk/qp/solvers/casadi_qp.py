@@ -2,13 +2,14 @@
 
 import functools
 import time
+from typing import Any
 
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.qp.program import FixedPatternProgram, QuadraticProgram
 from mpcwalk.qp.result import QPResult, kkt_residuals
-from mpcwalk.qp.solvers.registry import QPSolver
-from mpcwalk.qp.walking_qp import WalkingQP
+from mpcwalk.qp.solvers.base import QPSolver, fixed_pattern
 
 #: CasADi conic plugins this back-end knows how to configure.
 #: (``hpipm`` is left out: it needs the stage structure of the problem.)
@@ -35,7 +36,7 @@ def available_plugins() -> tuple[str, ...]:
 
 
 def _plugin_options(plugin: str, eps: float) -> dict:
-    quiet = {
+    quiet: dict[str, dict[str, Any]] = {
         "qpoases": {"printLevel": "none"},
         "osqp": {
             "osqp": {
@@ -76,8 +77,8 @@ class CasadiSolver(QPSolver):
         self.plugin = plugin
         self.name = f"casadi-{plugin}"
         self.options = {**_plugin_options(plugin, eps), **options}
-        self._function = None
-        self._qp: WalkingQP | None = None
+        self._function: Any = None  # casadi.Function of the conic problem
+        self._qp: FixedPatternProgram | None = None
         self._previous: np.ndarray | None = None
         self._h = self._a = None
         self._versions = (-1, -1)
@@ -85,7 +86,8 @@ class CasadiSolver(QPSolver):
     def reset(self) -> None:
         self._function = self._qp = self._previous = self._h = self._a = None
 
-    def check(self, qp: WalkingQP) -> None:
+    def check(self, qp: QuadraticProgram) -> None:
+        fixed_pattern(qp, self.name)
         if qp.formulation == "sparse" and self.plugin in DEFINITE_PLUGINS:
             raise ConfigurationError(
                 f"CasADi plugin '{self.plugin}' needs a positive definite cost matrix, but "
@@ -97,13 +99,14 @@ class CasadiSolver(QPSolver):
             pattern.shape[0], pattern.shape[1], pattern.indptr.tolist(), pattern.indices.tolist()
         )
 
-    def solve(self, qp: WalkingQP, *, shift: float = 0.0) -> QPResult:
-        qp._require_update()
-        self.check(qp)
+    def solve(self, program: QuadraticProgram, *, shift: float = 0.0) -> QPResult:
+        program.require_update()
+        self.check(program)
+        qp = fixed_pattern(program, self.name)
         ca = self._ca
         if self._function is None or self._qp is not qp:
-            self._H = self._sparsity(qp.layout.P_pattern)
-            self._Asp = self._sparsity(qp.layout.A_pattern)
+            self._H = self._sparsity(qp.P_pattern)
+            self._Asp = self._sparsity(qp.A_pattern)
             self._function = ca.conic(
                 "walking_qp", self.plugin, {"h": self._H, "a": self._Asp}, self.options
             )
@@ -126,7 +129,7 @@ class CasadiSolver(QPSolver):
         y = np.asarray(out["lam_a"]).ravel() if success else None
         self._previous = x
         primal, dual, gap = np.inf, None, None
-        if success:
+        if x is not None and y is not None:
             primal, dual, gap = kkt_residuals(qp.P, qp.q, qp.A, qp.l, qp.u, x, y)
         iterations = stats.get("iter_count", stats.get("iter"))
         return QPResult(

@@ -5,18 +5,18 @@ import time
 import numpy as np
 import osqp
 
+from mpcwalk.qp.program import FixedPatternProgram, QuadraticProgram
 from mpcwalk.qp.result import QPResult
-from mpcwalk.qp.solvers.registry import QPSolver
-from mpcwalk.qp.walking_qp import WalkingQP
+from mpcwalk.qp.solvers.base import QPSolver, fixed_pattern
 
 
 class OsqpSolver(QPSolver):
     """OSQP set up once per QP; each tick only updates vectors.
 
     Each call pushes ``q``, ``l`` and ``u``, and the values of ``A``
-    (``Ax``) only when the QP's :attr:`~WalkingQP.A_version` moved (the
-    sparsity pattern is fixed, so OSQP keeps its setup and only refactors).
-    A new ``P`` (:attr:`~WalkingQP.P_version`; only with per-phase CoM
+    (``Ax``) only when the QP's ``A_version`` moved (the sparsity pattern is
+    fixed, so OSQP keeps its setup and only refactors). A new ``P``
+    (``P_version``; only with per-phase CoM
     weights) gets a new setup instead. The previous primal and dual
     solutions, shifted by the elapsed sampling periods, are the warm start.
 
@@ -60,15 +60,19 @@ class OsqpSolver(QPSolver):
         )
         self.warm_start = warm_start
         self._solver: osqp.OSQP | None = None
-        self._qp: WalkingQP | None = None
+        self._qp: FixedPatternProgram | None = None
         self._versions = (-1, -1)
-        self._previous = None
+        self._previous: tuple[np.ndarray, np.ndarray] | None = None
 
     def reset(self) -> None:
         self._solver = self._qp = self._previous = None
 
-    def solve(self, qp: WalkingQP, *, shift: float = 0.0) -> QPResult:
-        qp._require_update()
+    def check(self, qp: QuadraticProgram) -> None:
+        fixed_pattern(qp, self.name)
+
+    def solve(self, program: QuadraticProgram, *, shift: float = 0.0) -> QPResult:
+        qp = fixed_pattern(program, self.name)
+        qp.require_update()
         start = time.perf_counter()
         versions = (qp.P_version, qp.A_version)
         if self._solver is None or self._qp is not qp or versions[0] != self._versions[0]:
@@ -87,8 +91,10 @@ class OsqpSolver(QPSolver):
             self._solver.update(**update)
         self._versions = versions
         if self.warm_start and self._previous is not None:
-            x, y = self._previous
-            self._solver.warm_start(x=qp.shift_primal(x, shift), y=qp.shift_dual(y, shift))
+            x_previous, y_previous = self._previous
+            self._solver.warm_start(
+                x=qp.shift_primal(x_previous, shift), y=qp.shift_dual(y_previous, shift)
+            )
         elif self.warm_start:
             self._solver.warm_start(x=np.zeros(qp.n), y=np.zeros(qp.m))
         result = self._solver.solve(raise_error=False)
@@ -97,7 +103,7 @@ class OsqpSolver(QPSolver):
         success = info.status_val == osqp.SolverStatus.OSQP_SOLVED
         x = np.array(result.x) if success else None
         y = np.array(result.y) if success else None
-        self._previous = (x, y) if success else None
+        self._previous = (x, y) if x is not None and y is not None else None
         return QPResult(
             x=x,
             y=y,

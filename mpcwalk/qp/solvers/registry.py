@@ -1,217 +1,209 @@
-"""QP back-ends chosen by a string, all returning a :class:`QPResult`.
+"""One registry of QP back-ends: name -> factory, availability, install hint.
 
 Names:
 
-- ``"osqp-direct"``: OSQP set up once, then vector updates and a warm start
-  from the shifted previous solution (:class:`OsqpSolver`);
-- ``"casadi"`` (= ``"casadi-qpoases"``) and ``"casadi-<plugin>"``: CasADi's
-  conic interface (:class:`CasadiSolver`);
+- ``"osqp-direct"``: OSQP set up once, then vector updates and a warm start from the
+  shifted previous solution (:class:`~mpcwalk.qp.solvers.osqp_direct.OsqpSolver`);
+- ``"casadi"`` (= ``"casadi-qpoases"``) and ``"casadi-<plugin>"``: CasADi's conic
+  interface (:class:`~mpcwalk.qp.solvers.casadi_qp.CasadiSolver`);
 - ``"kkt"``: one linear solve of the KKT system, for QPs without inequalities
-  (``constrained=False``), exact up to round-off;
-- any name of ``qpsolvers.available_solvers`` (``"daqp"``, ``"proxqp"``,
-  ``"quadprog"``, ``"clarabel"``...): through ``qpsolvers.solve_problem``.
+  (``constrained=False``), exact up to round-off
+  (:class:`~mpcwalk.qp.solvers.kkt.KktSolver`);
+- any name of ``qpsolvers.available_solvers`` (``"daqp"``, ``"proxqp"``, ``"quadprog"``,
+  ``"clarabel"``...): through ``qpsolvers.solve_problem``
+  (:class:`~mpcwalk.qp.solvers.qpsolvers_backend.QpsolversSolver`); the ones qpsolvers
+  can install (its pip extras) are known even when absent, with their install command.
+
+A new back-end is one :class:`SolverEntry` given to :meth:`SolverRegistry.register` of
+:data:`SOLVERS` (the solver benchmark registers CasADi's Opti layer that way). The
+back-end modules import nothing of this one; the heavy ones (OSQP, CasADi) are imported
+when their back-end is first made.
 """
 
-import time
-import warnings
-from abc import ABC, abstractmethod
+import importlib.metadata
+import importlib.util
+import re
+from collections.abc import Callable
+from dataclasses import dataclass
 
-import numpy as np
 import qpsolvers
-import scipy.linalg
-import scipy.sparse as sp
-import scipy.sparse.linalg
 
 from mpcwalk.exceptions import ConfigurationError, SolverNotFound
-from mpcwalk.qp.result import QPResult, kkt_residuals
-from mpcwalk.qp.walking_qp import WalkingQP
+from mpcwalk.qp.solvers.base import QPSolver
+from mpcwalk.qp.solvers.casadi_qp import DEFINITE_PLUGINS, PLUGINS, available_plugins
+from mpcwalk.qp.solvers.kkt import KktSolver
+from mpcwalk.qp.solvers.qpsolvers_backend import (
+    DEFINITE_SOLVERS,
+    WARM_START_SOLVERS,
+    QpsolversSolver,
+)
 
-#: qpsolvers back-ends that use the ``initvals`` warm start.
-WARM_START_SOLVERS = frozenset({"osqp", "proxqp", "qpalm", "scs", "cvxopt"})
-#: qpsolvers back-ends that need a positive definite P (not the sparse layout's).
-DEFINITE_SOLVERS = frozenset({"quadprog", "daqp", "ecos", "pyqpmad", "qpax", "jaxopt_osqp"})
-
-
-class QPSolver(ABC):
-    """A QP back-end bound to the walking QPs it solves (it may keep state,
-    such as a factorisation or the previous solution for warm starts)."""
-
-    name: str = ""
-
-    @abstractmethod
-    def solve(self, qp: WalkingQP, *, shift: float = 0.0) -> QPResult:
-        """Solve the QP as last updated.
-
-        Args:
-            qp: The walking QP.
-            shift: Sampling periods elapsed since the previous solve (the
-                previous solution shifted by this much is the warm start).
-        """
-
-    def reset(self) -> None:
-        """Forget warm-start data."""
-
-    def check(self, qp: WalkingQP) -> None:
-        """Raise ConfigurationError if this back-end cannot solve ``qp``'s class
-        of problems (called once, before the first solve)."""
+#: qpsolvers extras whose solver has another name.
+_EXTRA_SOLVER_NAMES = {"jaxopt": "jaxopt_osqp"}
 
 
-class QpsolversSolver(QPSolver):
-    """Any solver of ``qpsolvers.available_solvers``.
+@dataclass(frozen=True)
+class SolverEntry:
+    """One back-end of the registry.
 
-    Args:
-        name: qpsolvers name.
-        settings: Forwarded to the solver (e.g. ``eps_abs=1e-6``).
+    Attributes:
+        name: The name :func:`make_solver` takes.
+        factory: Builds the back-end from its keyword settings.
+        is_available: Whether it runs on this installation (called on demand).
+        install: How to install it when it is not available (a command or a sentence).
+        warm_start: Whether it starts from the shifted previous solution.
+        definite_only: Whether it needs a positive definite cost matrix (so not the sparse
+            formulation's, which is only semidefinite).
     """
 
-    def __init__(self, name: str, **settings) -> None:
-        self.name = name
-        self.settings = settings
-        self.dense = name not in qpsolvers.sparse_solvers
-        self._previous: np.ndarray | None = None
-
-    def reset(self) -> None:
-        self._previous = None
-
-    def check(self, qp: WalkingQP) -> None:
-        if qp.formulation == "sparse" and self.name in DEFINITE_SOLVERS:
-            raise ConfigurationError(
-                f"Solver '{self.name}' needs a positive definite cost matrix, but the "
-                "sparse formulation's P is only semidefinite (states are not "
-                "penalised in every direction); use formulation='dense' with it."
-            )
-
-    def solve(self, qp: WalkingQP, *, shift: float = 0.0) -> QPResult:
-        self.check(qp)
-        problem = qp.problem(dense=self.dense)
-        initvals = None
-        if self._previous is not None and self.name in WARM_START_SOLVERS:
-            initvals = qp.shift_primal(self._previous, shift)
-        start = time.perf_counter()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            try:
-                solution = qpsolvers.solve_problem(
-                    problem, self.name, initvals=initvals, **self.settings
-                )
-            except (qpsolvers.QPError, ValueError, ArithmeticError) as error:
-                return _failure(self.name, f"error: {error}", time.perf_counter() - start)
-        elapsed = time.perf_counter() - start
-        found = bool(solution.found) and solution.x is not None
-        self._previous = solution.x if found else None
-        y = None  # OSQP-form dual: equalities, then inequalities
-        has_y = qp.m_eq == 0 or solution.y is not None
-        has_z = qp.m == qp.m_eq or solution.z is not None
-        if found and has_y and has_z:
-            parts = ([solution.y] if qp.m_eq else []) + ([solution.z] if qp.m > qp.m_eq else [])
-            y = np.concatenate(parts) if parts else np.zeros(0)
-        return QPResult(
-            x=solution.x if found else None,
-            y=y,
-            success=found,
-            status="found" if found else "not found",
-            solve_time=elapsed,
-            iterations=_iterations(solution.extras),
-            primal_residual=solution.primal_residual(),
-            dual_residual=solution.dual_residual() if y is not None else None,
-            duality_gap=solution.duality_gap() if y is not None else None,
-            solver=self.name,
-        )
+    name: str
+    factory: Callable[..., QPSolver]
+    is_available: Callable[[], bool]
+    install: str
+    warm_start: bool = False
+    definite_only: bool = False
 
 
-class KktSolver(QPSolver):
-    """Exact solve of a QP without inequalities through its KKT system; the
-    factorisation is kept until the matrices change."""
-
-    name = "kkt"
+class SolverRegistry:
+    """Back-ends by name, in the order they were registered."""
 
     def __init__(self) -> None:
-        self._key = None
-        self._factor = None
+        self._entries: dict[str, SolverEntry] = {}
 
-    def reset(self) -> None:
-        self._key = self._factor = None
+    def register(self, entry: SolverEntry) -> None:
+        """Add ``entry`` (or replace the entry of the same name)."""
+        self._entries[entry.name] = entry
 
-    def check(self, qp: WalkingQP) -> None:
-        if qp.m > qp.m_eq:
-            raise ConfigurationError(
-                "Solver 'kkt' solves QPs without inequality constraints only; build the "
-                "QP with constrained=False or choose another solver (e.g. 'osqp-direct')."
-            )
+    def get(self, name: str) -> SolverEntry | None:
+        """Entry called ``name``, installed or not; None when unknown."""
+        return self._entries.get(name)
 
-    def solve(self, qp: WalkingQP, *, shift: float = 0.0) -> QPResult:
-        self.check(qp)
-        start = time.perf_counter()
-        key = (id(qp), qp.P_version, qp.A_version)
-        if key != self._key:
-            if qp.m_eq:
-                K = sp.bmat([[qp.P, qp.A.T], [qp.A, None]], format="csc")
-                self._factor = scipy.sparse.linalg.splu(K)
-            else:
-                self._factor = scipy.linalg.cho_factor(qp.P.toarray())
-            self._key = key
-        if qp.m_eq:
-            sol = self._factor.solve(np.concatenate([-qp.q, qp.l]))
-            x, y = sol[: qp.n], sol[qp.n :]
-        else:
-            x, y = scipy.linalg.cho_solve(self._factor, -qp.q), np.zeros(0)
-        elapsed = time.perf_counter() - start
-        primal, dual, gap = kkt_residuals(qp.P, qp.q, qp.A, qp.l, qp.u, x, y)
-        return QPResult(x, y, True, "solved", elapsed, 1, primal, dual, gap, self.name)
+    def names(self) -> list[str]:
+        """Names of the back-ends available on this installation."""
+        return [name for name, entry in self._entries.items() if entry.is_available()]
 
+    def installable(self) -> dict[str, str]:
+        """Known back-ends that are not installed -> how to install them."""
+        return {n: e.install for n, e in self._entries.items() if not e.is_available()}
 
-def _failure(name: str, status: str, elapsed: float) -> QPResult:
-    return QPResult(None, None, False, status, elapsed, None, np.inf, None, None, name)
+    def make(self, name: str, **settings) -> QPSolver:
+        """Back-end called ``name``, built with ``settings``.
+
+        Raises:
+            SolverNotFound: Unknown name (the message lists the available and the
+                installable back-ends), or a known back-end that is not installed (the
+                message says how to install it).
+        """
+        entry = self._entries.get(name)
+        if entry is None:
+            raise SolverNotFound(name, self.names(), self.installable())
+        if not entry.is_available():
+            raise SolverNotFound(name, self.names(), install=entry.install)
+        return entry.factory(**settings)
 
 
-def _iterations(extras: dict) -> int | None:
-    for key in ("iterations", "iter", "iter_count", "num_iterations"):
-        value = extras.get(key)
-        if value is not None:
-            return int(np.ravel(value)[0])
-    info = extras.get("info")
-    for attr in ("iter", "iter_ext", "iterations"):
-        if info is not None and getattr(info, attr, None) is not None:
-            return int(getattr(info, attr))
-    return None
+def _make_osqp(**settings) -> QPSolver:
+    from mpcwalk.qp.solvers.osqp_direct import OsqpSolver
+
+    return OsqpSolver(**settings)
+
+
+def _make_kkt(**settings) -> QPSolver:
+    if settings:
+        raise ConfigurationError(
+            f"Solver 'kkt' takes no settings, got {', '.join(sorted(settings))}."
+        )
+    return KktSolver()
+
+
+def _casadi_entry(name: str, plugin: str) -> SolverEntry:
+    def make(**settings) -> QPSolver:
+        from mpcwalk.qp.solvers.casadi_qp import CasadiSolver
+
+        return CasadiSolver(plugin, **settings)
+
+    if importlib.util.find_spec("casadi") is None:
+        install = "pip install casadi"
+    else:
+        install = f"a CasADi build with the '{plugin}' conic plugin"
+    return SolverEntry(
+        name,
+        make,
+        lambda: plugin in available_plugins(),
+        install,
+        warm_start=True,
+        definite_only=plugin in DEFINITE_PLUGINS,
+    )
+
+
+def _qpsolvers_entry(name: str, extra: str | None) -> SolverEntry:
+    install = f"pip install qpsolvers[{extra}]" if extra else "see the qpsolvers documentation"
+    return SolverEntry(
+        name,
+        lambda **settings: QpsolversSolver(name, **settings),
+        lambda: name in qpsolvers.available_solvers,
+        install,
+        warm_start=name in WARM_START_SOLVERS,
+        definite_only=name in DEFINITE_SOLVERS,
+    )
+
+
+def qpsolvers_extras() -> dict[str, str]:
+    """qpsolvers solver name -> the pip extra of qpsolvers that installs it (read from the
+    installed qpsolvers' metadata, so the hint is the one its version offers)."""
+    try:
+        requirements = importlib.metadata.requires("qpsolvers") or []
+    except importlib.metadata.PackageNotFoundError:  # pragma: no cover - a dependency
+        return {}
+    extras = {}
+    for requirement in requirements:
+        package, _, marker = requirement.partition(";")
+        match = re.search(r"extra\s*==\s*['\"]([^'\"]+)['\"]", marker)
+        if match is None or package.strip().startswith("qpsolvers"):
+            continue  # not an extra, or a group of other extras
+        extras[_EXTRA_SOLVER_NAMES.get(match[1], match[1])] = match[1]
+    return extras
+
+
+def _default_registry() -> SolverRegistry:
+    registry = SolverRegistry()
+    osqp_missing = importlib.util.find_spec("osqp") is None
+    registry.register(
+        SolverEntry(
+            "osqp-direct",
+            _make_osqp,
+            lambda: not osqp_missing,
+            "pip install osqp",
+            warm_start=True,
+        )
+    )
+    registry.register(SolverEntry("kkt", _make_kkt, lambda: True, ""))
+    registry.register(_casadi_entry("casadi", "qpoases"))
+    for plugin in PLUGINS:
+        registry.register(_casadi_entry(f"casadi-{plugin}", plugin))
+    extras = qpsolvers_extras()
+    for name in [
+        *qpsolvers.available_solvers,
+        *sorted(set(extras) - set(qpsolvers.available_solvers)),
+    ]:
+        registry.register(_qpsolvers_entry(name, extras.get(name)))
+    return registry
+
+
+#: The registry of every back-end (see the module docstring).
+SOLVERS = _default_registry()
 
 
 def solver_names() -> list[str]:
     """Names accepted by :func:`make_solver` on this installation."""
-    from mpcwalk.qp.solvers.casadi_qp import available_plugins
-
-    casadi = [f"casadi-{p}" for p in available_plugins()]
-    return (
-        ["osqp-direct", "kkt"]
-        + (["casadi"] + casadi if casadi else [])
-        + list(qpsolvers.available_solvers)
-    )
+    return SOLVERS.names()
 
 
 def make_solver(name: str, **settings) -> QPSolver:
-    """Back-end called ``name`` (see the module docstring).
+    """Back-end called ``name`` (see the module docstring), built with ``settings``.
 
     Raises:
-        SolverNotFound: Unknown or uninstalled solver; the message lists the
-            available ones.
+        SolverNotFound: Unknown or uninstalled back-end; the message lists the available
+            ones and how to install the missing ones.
     """
-    if name == "osqp-direct":
-        from mpcwalk.qp.solvers.osqp_direct import OsqpSolver
-
-        return OsqpSolver(**settings)
-    if name == "kkt":
-        if settings:
-            raise ConfigurationError(
-                f"Solver 'kkt' takes no settings, got {', '.join(sorted(settings))}."
-            )
-        return KktSolver()
-    if name == "casadi" or name.startswith("casadi-"):
-        from mpcwalk.qp.solvers.casadi_qp import CasadiSolver, available_plugins
-
-        plugin = "qpoases" if name == "casadi" else name[len("casadi-") :]
-        if plugin not in available_plugins():
-            raise SolverNotFound(name, solver_names())
-        return CasadiSolver(plugin, **settings)
-    if name in qpsolvers.available_solvers:
-        return QpsolversSolver(name, **settings)
-    raise SolverNotFound(name, solver_names())
+    return SOLVERS.make(name, **settings)

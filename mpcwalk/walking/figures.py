@@ -1,9 +1,15 @@
-"""Figures of planned walks: top view and CoM/ZMP over time (matplotlib, no screen)."""
+"""Figures of walks (matplotlib, no screen): top view and CoM/ZMP over time of a planned
+walk, and the same of a simulated walk with its measured CoM and CoP."""
 
 import numpy as np
 
 from mpcwalk.footsteps.footstep import Side
 from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.models.support_polygon import foot_rectangle
+from mpcwalk.walking.log import WalkLog
+from mpcwalk.walking.metrics import landing_check_times
+
+_SIDES = (Side.LEFT, Side.RIGHT)
 
 
 def _pyplot():
@@ -46,8 +52,6 @@ def plot_top_view(schedule: ContactSchedule, times, com, zmp, *, title: str = ""
     else:
         fig = ax.figure
     colors = {Side.LEFT: "tab:blue", Side.RIGHT: "tab:red"}
-    from mpcwalk.models.support_polygon import foot_rectangle
-
     for i, foot in enumerate(feet):
         rect = foot_rectangle(foot.xy, foot.yaw, schedule.foot.length, schedule.foot.width)
         ax.add_patch(
@@ -118,4 +122,77 @@ def plot_com_zmp(
     if title:
         axes[0].set_title(title)
     fig.tight_layout()
+    return fig
+
+
+def _label_as_measured(ax) -> None:
+    """The planning plots draw a planned ZMP and CoM; here they are the measured CoP and CoM."""
+    for line in ax.get_lines():
+        if line.get_label() == "ZMP":
+            line.set_label("CoP (measured)")
+            line.set_color("tab:red")
+            line.set_linewidth(0.6)
+        elif line.get_label() == "CoM":
+            line.set_label("CoM (measured)")
+
+
+def plot_walk_top_view(schedule: ContactSchedule, log: WalkLog, *, title: str = ""):
+    """Planned footsteps, landed soles, measured CoM and CoP seen from above (paper M
+    Fig. 1a, paper A Fig. 5)."""
+    from matplotlib.patches import Polygon
+
+    fig = plot_top_view(schedule, log.time, log.com[:, :2], log.cop[:, :2], title=title)
+    ax = fig.axes[0]
+    _label_as_measured(ax)
+    ax.plot(
+        log.com_reference[:, 0],
+        log.com_reference[:, 1],
+        "--",
+        color="0.5",
+        lw=1.0,
+        label="CoM reference",
+    )
+    checks = landing_check_times(schedule)
+    for k, t in enumerate(checks):
+        if t > log.time[-1] + 1e-9:
+            break
+        i = min(int(np.searchsorted(log.time, t - 1e-9)), len(log) - 1)
+        j = _SIDES.index(schedule.plan.steps[k].side)
+        rect = foot_rectangle(
+            log.sole_positions[i, j, :2],
+            float(log.sole_yaws[i, j]),
+            schedule.foot.length,
+            schedule.foot.width,
+        )
+        ax.add_patch(
+            Polygon(
+                rect.vertices,
+                closed=True,
+                fill=True,
+                alpha=0.15,
+                color="tab:blue" if j == 0 else "tab:red",
+                lw=0,
+                label="landed soles" if k == 0 else None,
+            )
+        )
+    place_legend_below(ax)
+    return fig
+
+
+def plot_walk_over_time(schedule: ContactSchedule, log: WalkLog, *, title: str = ""):
+    """CoM (measured and reference), ZMP reference and measured CoP over time, per axis."""
+    fig = plot_com_zmp(
+        schedule,
+        log.time,
+        log.com[:, :2],
+        log.cop[:, :2],
+        zmp_reference=log.zmp_reference,
+        title=title,
+    )
+    for axis, ax in enumerate(fig.axes):
+        _label_as_measured(ax)
+        ax.plot(
+            log.time, log.com_reference[:, axis], "--", color="0.4", lw=1.0, label="CoM reference"
+        )
+    fig.axes[0].legend(loc="best", fontsize=8)
     return fig

@@ -10,6 +10,13 @@ heading frame, and ``s`` is the arm movement factor (0.8 in paper M). The displa
 hand hanging at distance ``l`` below its shoulder is realised by the shoulder pitch joint,
 ``sin(-theta) * l = x`` for an axis along ``+y`` (the sign follows the joint's axis, so the
 hand moves forward on any robot).
+
+In the control tick the arm swing is a joint stage of its own, after the whole-body IK:
+:meth:`ArmSwing.apply` sets the two shoulder pitch angles of the IK's next configuration.
+The configuration it returns is the controller's reference ``q_ref``, from which the servo
+targets and the next IK step start: the IK's CoM task then sees the moved arms and corrects
+the CoM at the next tick, and its posture task pulls the arms towards the nominal posture
+with a small weight that the next arm-swing stage overrides.
 """
 
 import math
@@ -18,9 +25,11 @@ import numpy as np
 import pinocchio as pin
 
 from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.gait.swing_foot import FeetState
+from mpcwalk.robot.robot import Robot
 
 
-def _shoulder_pitch_joint(robot, side: str) -> str:
+def _shoulder_pitch_joint(robot: Robot, side: str) -> str:
     for name in robot.joint_names:
         if name.startswith(side) and "shoulder_pitch" in name:
             return name
@@ -42,7 +51,7 @@ class ArmSwing:
             pitch joints.
     """
 
-    def __init__(self, robot, factor: float) -> None:
+    def __init__(self, robot: Robot, factor: float) -> None:
         if isinstance(factor, bool) or not (
             isinstance(factor, (int, float)) and math.isfinite(factor) and factor >= 0.0
         ):
@@ -102,3 +111,12 @@ class ArmSwing:
         x = np.array(self.hand_displacements(com_xy, left_xy, right_xy, yaw))
         ratio = np.clip(x / self.arm_lengths, -0.9, 0.9)
         return self.nominal - self._signs * np.arcsin(ratio)
+
+    def apply(self, q: np.ndarray, com_xy: np.ndarray, feet: FeetState, yaw: float) -> np.ndarray:
+        """Configuration ``q`` (nq,) with the shoulder pitch angles of the arm swing for the
+        CoM ``com_xy`` [m], the feet targets and the torso yaw [rad] (a new array)."""
+        swung = np.array(q, dtype=float)
+        swung[7 + self.joint_indices] = self.joint_angles(
+            com_xy, feet.left.position, feet.right.position, yaw
+        )
+        return swung

@@ -1,0 +1,96 @@
+"""The gait's references of the controller: feet, CoM and torso-yaw targets along a schedule.
+
+:class:`GaitReference` follows paper M's swing-foot and torso-yaw trajectories (eq. 19-23)
+along the contact schedule, which a footstep-adaptive generator may replace during the walk;
+:class:`GaitTargets` are its targets at one time, which a stabilizer may move before the
+whole-body IK gets them.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.footsteps.footstep import Side
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.gait.swing_foot import FeetState, SwingFootTrajectory
+from mpcwalk.ik.targets import IKTargets
+
+
+@dataclass(frozen=True)
+class GaitTargets:
+    """Targets of the whole-body IK at one time, as the gait gives them.
+
+    A stabilizer may move them (:meth:`~mpcwalk.control.stabilizers.base.Stabilizer.adjust_targets`)
+    before :meth:`ik_targets` turns them into poses.
+
+    Attributes:
+        feet: Feet poses and velocities (contact flags, step index).
+        com_xy: Horizontal CoM position, shape (2,), in [m] (its height is the robot's).
+        torso_yaw: Torso yaw [rad] (the torso is kept upright).
+    """
+
+    feet: FeetState
+    com_xy: np.ndarray
+    torso_yaw: float
+
+    def ik_targets(self, ground_height: float, com_height: float) -> IKTargets:
+        """IK targets: the CoM ``com_height`` [m] above ``ground_height`` [m], the soles flat,
+        the torso upright at the yaw."""
+        c, s = np.cos(self.torso_yaw), np.sin(self.torso_yaw)
+        torso = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        com = np.array([self.com_xy[0], self.com_xy[1], ground_height + com_height])
+        return IKTargets(com, self.feet.left.transform, self.feet.right.transform, torso)
+
+
+class GaitReference:
+    """Feet and torso-yaw references of a walk along its contact schedule.
+
+    Args:
+        schedule: Footsteps and contact phases the walk starts with.
+        step_height: Swing-foot height [m].
+        profile: Swing profile, ``"cosine"`` (paper M) or ``"ctraj"`` (paper A), see
+            :class:`~mpcwalk.gait.swing_foot.SwingFootTrajectory`.
+        com_height: CoM height above the ground of the feet [m].
+
+    Raises:
+        ConfigurationError: ``schedule`` is not a ContactSchedule.
+    """
+
+    def __init__(
+        self, schedule: ContactSchedule, step_height: float, profile: str, com_height: float
+    ) -> None:
+        if not isinstance(schedule, ContactSchedule):
+            raise ConfigurationError(
+                f"schedule must be a ContactSchedule, got {type(schedule).__name__}."
+            )
+        self.initial_schedule = schedule
+        self.schedule = schedule
+        self.trajectory = SwingFootTrajectory(schedule, step_height, profile)
+        self.com_height = float(com_height)
+
+    def restart(self) -> None:
+        """Back to the initial schedule, for a new walk."""
+        self.follow(self.initial_schedule, None)
+
+    def follow(self, schedule: ContactSchedule, swing: tuple[float, Side] | None) -> None:
+        """Follow ``schedule`` from now on; the foot of ``swing`` = (time [s], side), in the
+        air at that time, goes on from its pose there (no jump) to its new landing."""
+        previous = self.trajectory
+        self.schedule = schedule
+        self.trajectory = SwingFootTrajectory(schedule, previous.step_height, previous.profile)
+        if swing is not None:
+            t, side = swing
+            self.trajectory.restart_swing(t, previous.foot_poses(t)[side])
+
+    def targets(self, t: float, com_xy: np.ndarray) -> GaitTargets:
+        """Feet and torso-yaw targets at ``t`` [s], with the CoM ``com_xy`` [m]."""
+        return GaitTargets(
+            self.trajectory.foot_poses(t), com_xy, float(self.trajectory.torso_yaw(t))
+        )
+
+    def ik_targets(self, gait: GaitTargets, t: float) -> IKTargets:
+        """IK targets of ``gait`` at ``t``: the CoM at the CoM height above the mean height of
+        the footsteps planned on the ground."""
+        ground = float(np.mean([foot.position[2] for foot in self.schedule.stance(t).values()]))
+        return gait.ik_targets(ground, self.com_height)

@@ -1,0 +1,289 @@
+"""Where the samples of the footstep-adaptive MPC stand: footstep slots, supports, reach.
+
+The footsteps of a walk are numbered as slots: 0 and 1 the initial left and right feet,
+``2 + k`` the landing of step ``k``. Step ``k`` is made from the support foot
+``support[k]`` by the swing foot that lifts from ``lift[k]``.
+
+Support of a sample between slots A and B (``lam``: share of B; single support: A = B): in
+double support ``lam`` runs from 0 to 1 (0.5 at the step boundary, where paper M's
+reference passes the feet midpoint); before and after the walk it is 0.5. With both feet
+fixed the ZMP stays in the hull of the soles (as the fixed-footstep MPC); with a footstep
+variable, in the sole-sized rectangle of
+:func:`~mpcwalk.qp.footstep_parameters.blended_rectangles` centred at
+``(1 - lam) A + lam B``, inside that hull for any positions. The ZMP cost pulls to the
+same centre (paper M's polygonal reference, eq. 6-8, on the variable footsteps).
+:class:`FootstepSlots` turns this into the :class:`SampleSupports` and
+:class:`StepVariables` that :meth:`FootstepQP.update
+<mpcwalk.qp.footstep_qp.FootstepQP.update>` takes.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mpcwalk.exceptions import InfeasibleStep
+from mpcwalk.footsteps.footstep import Side, wrap_angle
+from mpcwalk.footsteps.reachability import ReachabilityRectangle
+from mpcwalk.gait.contact_schedule import MAX_POLYGON_EDGES, ContactSchedule
+from mpcwalk.qp.footstep_parameters import blended_rectangles
+
+_BOUNDARY_EPS = 1e-9  # [s] a sample on a phase boundary belongs to the new phase
+_REACH_TOLERANCE = 1e-6  # [m], [rad] nominal steps may touch the rectangle's edges
+
+
+@dataclass(frozen=True)
+class SampleSupports:
+    """ZMP constraints and ZMP centres at the constraint points, affine in the footsteps.
+
+    The constraint points are :meth:`FootstepQP.constraint_times
+    <mpcwalk.qp.footstep_qp.FootstepQP.constraint_times>` (``n = N P`` with ``P`` points
+    per interval; every ``P``-th is a sample). Point ``i`` requires
+    ``normals[i, r] . (Z_i - S_i F) <= offsets[i, r]`` for the rows ``r`` where
+    ``rows[i, r]``; its ZMP centre is ``centres[i] + S_i F`` (used at the samples only).
+
+    Attributes:
+        normals: Outward unit normals, shape (n, E, 2).
+        offsets: Shape (n, E), in [m].
+        rows: Which rows are real (not padding), shape (n, E), bool.
+        weights: ``S``: share of each footstep variable in the point's support, (n, nf).
+        centres: Fixed part ``c0`` of the ZMP centre, shape (n, 2), in [m].
+    """
+
+    normals: np.ndarray
+    offsets: np.ndarray
+    rows: np.ndarray
+    weights: np.ndarray
+    centres: np.ndarray
+
+
+@dataclass(frozen=True)
+class StepVariables:
+    """Footstep variables of one tick: which are used, their reference, their reach.
+
+    Attributes:
+        active: Shape (nf,), bool; inactive variables are pinned at 0 by the cost only.
+        reference_matrix: ``M``, shape (nf, nf).
+        reference: ``r``, shape (nf, 2), in [m]: the cost pulls ``M F`` towards it.
+        predecessor: Variable index of the footstep each one is reached from (the support
+            foot of its step), or -1 when that foot is fixed; shape (nf,), int.
+        predecessor_xy: Position of a fixed predecessor, shape (nf, 2), in [m].
+        predecessor_yaw: Yaw of the predecessor, shape (nf,), in [rad].
+        lower: Lowest landing in the predecessor's frame (x, y), shape (nf, 2), in [m].
+        upper: Highest landing, shape (nf, 2), in [m].
+        initial: Current positions (warm start of the footstep entries), (nf, 2), in [m].
+    """
+
+    active: np.ndarray
+    reference_matrix: np.ndarray
+    reference: np.ndarray
+    predecessor: np.ndarray
+    predecessor_xy: np.ndarray
+    predecessor_yaw: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    initial: np.ndarray
+
+
+class FootstepSlots:
+    """The footsteps of one walk as slots of the footstep-adaptive MPC.
+
+    Args:
+        schedule: The walk's nominal schedule (footsteps, sides, yaws and timing).
+        reachability: Landings allowed relative to the support foot.
+
+    Attributes:
+        nominal: Planned positions of the slots, shape (nb_steps + 2, 2), in [m].
+        positions: Positions as last published, shape (nb_steps + 2, 2), in [m].
+        yaws: Yaw of each slot, shape (nb_steps + 2,), in [rad].
+        support: Slot of the support foot of each step, shape (nb_steps,).
+        lift: Slot the swing foot of each step lifts from, shape (nb_steps,).
+        landing: Landing time of each step, shape (nb_steps,), in [s].
+        current: The schedule with the published positions.
+    """
+
+    def __init__(self, schedule: ContactSchedule, reachability: ReachabilityRectangle) -> None:
+        plan = schedule.plan
+        self.nominal_schedule = schedule
+        self.reachability = reachability
+        self.nb_steps = nb = plan.nb_steps
+        self.feet = [plan.initial_left, plan.initial_right, *plan.steps]
+        self.nominal = np.array([f.xy for f in self.feet]).reshape(-1, 2)
+        self.positions = self.nominal.copy()
+        self.yaws = np.array([f.yaw for f in self.feet])
+        init = {Side.LEFT: 0, Side.RIGHT: 1}
+        sides = [s.side for s in plan.steps]
+        self.support = np.array([2 + k - 1 if k else init[sides[0].other] for k in range(nb)], int)
+        self.lift = np.array([2 + k - 2 if k >= 2 else init[sides[k]] for k in range(nb)], int)
+        self.bounds = [reachability.bounds(side) for side in sides]
+        self.landing = schedule.walk_start + np.arange(nb) * schedule.step_duration + schedule.t_e
+        self.current = schedule
+        self._tabulate(schedule)
+
+    def check_reachable(self) -> None:
+        """Every planned step must lie in the rectangle of its support foot.
+
+        Raises:
+            InfeasibleStep: A planned step outside the rectangle.
+        """
+        for k in range(self.nb_steps):
+            p, slot = self.support[k], 2 + k
+            yaw = self.yaws[p]
+            R = np.array([[np.cos(yaw), np.sin(yaw)], [-np.sin(yaw), np.cos(yaw)]])
+            local = np.append(
+                R @ (self.nominal[slot] - self.nominal[p]), wrap_angle(self.yaws[slot] - yaw)
+            )
+            lower, upper = self.bounds[k]
+            if np.any(local < lower - _REACH_TOLERANCE) or np.any(local > upper + _REACH_TOLERANCE):
+                raise InfeasibleStep(
+                    f"Planned step {k} ({self.feet[slot].side.value} foot) lands at "
+                    f"(x, y, yaw) = ({local[0]:.4f} m, {local[1]:.4f} m, {local[2]:.4f} rad) in "
+                    f"its support foot's frame, outside the reachability rectangle "
+                    f"({self.reachability.describe()}). Widen the rectangle (reachability=) "
+                    "or plan the footsteps within it (VelocityPlanner with the same LegLimits)."
+                )
+
+    def _tabulate(self, schedule: ContactSchedule) -> None:
+        """Half-planes of the schedule's phases, padded, with a mask of the real rows."""
+        E = MAX_POLYGON_EDGES
+        nph = len(schedule.phases)
+        self._phase_A, self._phase_b = np.zeros((nph, E, 2)), np.zeros((nph, E))
+        self._phase_rows = np.zeros((nph, E), bool)
+        for i, phase in enumerate(schedule.phases):
+            k = len(phase.polygon.b)
+            self._phase_A[i, :k], self._phase_b[i, :k] = phase.polygon.A, phase.polygon.b
+            self._phase_rows[i, :k] = True
+
+    def free_steps(
+        self, t: float, last_sample: float, freeze_before_landing: float
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Steps whose landing is free at ``t`` [s] (not frozen ``freeze_before_landing``
+        [s] before touch-down, landing by ``last_sample`` [s]), and the variable index of
+        every slot (-1: fixed)."""
+        free = (t < self.landing - freeze_before_landing - _BOUNDARY_EPS) & (
+            self.landing <= last_sample + _BOUNDARY_EPS
+        )
+        steps_k = np.flatnonzero(free)
+        variable = np.full(self.nb_steps + 2, -1)
+        variable[2 + steps_k] = np.arange(len(steps_k))
+        return steps_k, variable
+
+    def slots(self, times: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Feet A and B (slots) of each sample and the share ``lam`` of B in its support."""
+        sched, nb = self.nominal_schedule, self.nb_steps
+        T, t_b, t_e = sched.step_duration, sched.t_b, sched.t_e
+        rel = times + _BOUNDARY_EPS - sched.walk_start
+        k = np.floor(rel / T).astype(int)
+        n = len(times)
+        A, B, lam = np.zeros(n, int), np.ones(n, int), np.full(n, 0.5)
+        if nb:
+            A[:], B[:] = self.lift[0], self.support[0]  # before the walk: both initial feet
+            after = k >= nb
+            A[after], B[after] = self.support[-1], 2 + nb - 1
+            walk = (rel >= 0.0) & ~after
+            kw = k[walk]
+            tau = rel[walk] - kw * T
+            a, b, w = self.support[kw].copy(), self.support[kw].copy(), np.zeros(len(kw))
+            opening, closing = tau < t_b, tau >= t_e
+            a[opening] = self.lift[kw[opening]]
+            if t_b > 0.0:
+                w[opening] = 0.5 + 0.5 * tau[opening] / t_b
+            if t_e < T:
+                b[closing] = 2 + kw[closing]
+                w[closing] = 0.5 * (tau[closing] - t_e) / (T - t_e)
+            A[walk], B[walk], lam[walk] = a, b, w
+        return A, B, lam
+
+    def supports(self, times: np.ndarray, variable: np.ndarray, nf: int) -> SampleSupports:
+        """ZMP constraints and centres at ``times`` [s] for ``nf`` footstep variables: the
+        published polygons where both feet are fixed, blended rectangles on the footstep
+        variables elsewhere."""
+        A, B, lam = self.slots(times)
+        va, vb = variable[A], variable[B]
+        pos = self.positions
+        centres = np.where(va[:, None] < 0, (1.0 - lam)[:, None] * pos[A], 0.0) + np.where(
+            vb[:, None] < 0, lam[:, None] * pos[B], 0.0
+        )
+        weights = np.zeros((len(times), nf + 1))  # last column: the fixed feet, dropped
+        samples = np.arange(len(times))
+        np.add.at(weights, (samples, np.where(va >= 0, va, nf)), 1.0 - lam)
+        np.add.at(weights, (samples, np.where(vb >= 0, vb, nf)), lam)
+        weights = weights[:, :nf]
+        moving = np.flatnonzero((va >= 0) | (vb >= 0))
+        idx = self.current.phase_index(times + _BOUNDARY_EPS)
+        normals, offsets = self._phase_A[idx].copy(), self._phase_b[idx].copy()
+        rows = self._phase_rows[idx].copy()
+        if len(moving):
+            n, half = blended_rectangles(
+                self.yaws[A[moving]], self.yaws[B[moving]], lam[moving], self.current.foot
+            )
+            normals[moving] = 0.0
+            offsets[moving] = 0.0
+            rows[moving] = False
+            normals[moving, :4] = n
+            offsets[moving, :4] = half + np.einsum("kra,ka->kr", n, centres[moving])
+            rows[moving, :4] = True
+        return SampleSupports(normals, offsets, rows, weights, centres)
+
+    def step_variables(
+        self,
+        steps_k: np.ndarray,
+        variable: np.ndarray,
+        nf: int,
+        *,
+        absolute: bool,
+        offset: np.ndarray,
+    ) -> StepVariables:
+        """Reference and reach of the footstep variables (steps ``steps_k``).
+
+        Args:
+            steps_k: Steps whose landings are variables, in variable order.
+            variable: Variable index of every slot (-1: fixed).
+            nf: Number of footstep variables of the QP.
+            absolute: Pull each footstep to its planned position moved by ``offset``;
+                False: to its planned displacement from its support foot.
+            offset: Move of the absolute references, shape (2,), in [m].
+        """
+        active = np.zeros(nf, bool)
+        M, r = np.eye(nf), np.zeros((nf, 2))
+        pred = np.full(nf, -1)
+        pred_xy, pred_yaw = np.zeros((nf, 2)), np.zeros(nf)
+        lower, upper = np.full((nf, 2), -1.0), np.ones((nf, 2))
+        initial = np.zeros((nf, 2))
+        for j, k in enumerate(steps_k):
+            p = self.support[k]
+            active[j] = True
+            pred[j], pred_xy[j], pred_yaw[j] = variable[p], self.positions[p], self.yaws[p]
+            lower[j], upper[j] = self.bounds[k][0][:2], self.bounds[k][1][:2]
+            initial[j] = self.positions[2 + k]
+            if absolute:
+                r[j] = self.nominal[2 + k] + offset
+            else:
+                r[j] = self.nominal[2 + k] - self.nominal[p]
+                if variable[p] >= 0:
+                    M[j, variable[p]] = -1.0
+                else:
+                    r[j] += self.positions[p]
+        return StepVariables(active, M, r, pred, pred_xy, pred_yaw, lower, upper, initial)
+
+    def publish(
+        self, steps_k: np.ndarray, footsteps: np.ndarray, tolerance: float
+    ) -> ContactSchedule | None:
+        """The schedule with the new footsteps when the next landing moved by more than
+        ``tolerance`` [m] (the ones after it may lag: they are published with it, and the
+        next landing is the one frozen), else None. Steps after the horizon keep their
+        planned displacements from the last variable one, so that the published plan stays
+        reachable (with the absolute reference the QP pulls them back once in the horizon)."""
+        slots = 2 + steps_k
+        if np.linalg.norm(footsteps[0] - self.positions[slots[0]]) <= tolerance:
+            return None
+        positions = self.positions.copy()
+        positions[slots] = footsteps
+        last = slots[-1]  # later steps keep their planned displacements: reachable
+        positions[last + 1 :] = self.nominal[last + 1 :] + (footsteps[-1] - self.nominal[last])
+        steps = list(self.current.plan.steps)
+        for k in np.flatnonzero(np.any(positions[2:] != self.positions[2:], axis=1)):
+            steps[k] = steps[k].moved(position=[*positions[2 + k], steps[k].position[2]])
+        self.current = self.current.with_steps(steps)
+        self.positions = positions
+        self._tabulate(self.current)
+        return self.current

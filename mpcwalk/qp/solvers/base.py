@@ -1,0 +1,61 @@
+"""The interface of every QP back-end, and the checks they share."""
+
+from abc import ABC, abstractmethod
+from typing import cast
+
+import numpy as np
+
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.qp.program import FixedPatternProgram, QuadraticProgram
+from mpcwalk.qp.result import QPResult
+
+
+class QPSolver(ABC):
+    """A QP back-end bound to the walking QPs it solves (it may keep state, such as a
+    factorisation or the previous solution for warm starts).
+
+    Attributes:
+        name: Back-end name, as given to :func:`~mpcwalk.qp.solvers.registry.make_solver`.
+    """
+
+    name: str = ""
+
+    @abstractmethod
+    def solve(self, qp: QuadraticProgram, *, shift: float = 0.0) -> QPResult:
+        """Solve the QP as last updated.
+
+        Args:
+            qp: A walking QP (:class:`~mpcwalk.qp.program.QuadraticProgram`).
+            shift: Sampling periods elapsed since the previous solve (the previous
+                solution shifted by this much is the warm start).
+        """
+
+    def reset(self) -> None:
+        """Forget warm-start data."""
+
+    def check(self, qp: QuadraticProgram) -> None:
+        """Raise ConfigurationError if this back-end cannot solve ``qp``'s class of
+        problems (called once, before the first solve)."""
+
+
+def fixed_pattern(qp: QuadraticProgram, solver: str) -> FixedPatternProgram:
+    """``qp`` as a :class:`~mpcwalk.qp.program.FixedPatternProgram`, which back-ends that
+    update the OSQP form in place (``osqp-direct``, CasADi, ``kkt``) need.
+
+    Raises:
+        ConfigurationError: ``qp`` rebuilds its matrices every tick (the footstep-adaptive
+            MPC's dense QP); the message says to solve it through qpsolvers.
+    """
+    if not qp.fixed_pattern:
+        raise ConfigurationError(
+            f"Solver '{solver}' updates a QP with a fixed sparsity pattern in place (as "
+            f"WalkingQP), but {type(qp).__name__} is dense and rebuilt every tick; solve it "
+            "through qpsolvers instead (a name of qpsolvers.available_solvers, e.g. "
+            "'quadprog' or 'daqp')."
+        )
+    return cast(FixedPatternProgram, qp)
+
+
+def failure(name: str, status: str, elapsed: float) -> QPResult:
+    """Result of a solve that gave no solution (``status`` says why; ``elapsed`` [s])."""
+    return QPResult(None, None, False, status, elapsed, None, np.inf, None, None, name)

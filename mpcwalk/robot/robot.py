@@ -1,0 +1,170 @@
+"""Robot: one description in Pinocchio and in MuJoCo, with its walking traits.
+
+Conventions: world z up, x forward. Sole frames are named ``left_sole`` and ``right_sole``
+in both engines (a Pinocchio frame, a MuJoCo site), at the sole centre, z up when the foot is
+flat. Pinocchio's free-flyer configuration stores the base quaternion as (x, y, z, w) and the
+base linear velocity in the base frame; MuJoCo's free joint stores (w, x, y, z) and the linear
+velocity in the world frame: use :meth:`Robot.q_to_qpos` and friends to convert.
+
+This module reads the MuJoCo model's data but calls nothing of MuJoCo: the IK and the
+controller use a :class:`Robot` without loading the simulator
+(:mod:`mpcwalk.robot.loading` builds it).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pinocchio as pin
+
+from mpcwalk.exceptions import FrameNotFound
+from mpcwalk.footsteps import Footstep, LegLimits, Side
+from mpcwalk.gait.gait_defaults import GaitDefaults
+from mpcwalk.robot.preset import RobotPreset
+
+if TYPE_CHECKING:
+    import mujoco
+
+
+@dataclass(frozen=True)
+class ServoGains:
+    """Position servo of each joint (``robot.joint_names`` order), read from MuJoCo at load.
+
+    Attributes:
+        stiffness: Servo stiffness kp [N m/rad], shape (nb_joints,); inf where the joint has
+            no position actuator.
+        damping: Servo velocity gain plus passive joint damping [N m s/rad], shape
+            (nb_joints,).
+        torque_limit: Servo torque limit [N m], shape (nb_joints,); inf where unlimited.
+    """
+
+    stiffness: np.ndarray
+    damping: np.ndarray
+    torque_limit: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class Robot:
+    """One robot in Pinocchio (free-flyer model) and in MuJoCo (scene with floor).
+
+    Attributes:
+        name: Robot name.
+        preset: The preset it was built from.
+        description_path: Description file (MJCF or URDF) both models come from.
+        model: Pinocchio model; configuration q = (base position [m], base quaternion x, y, z,
+            w, joint angles [rad]) in Pinocchio's joint order.
+        data: Pinocchio data of ``model`` (shared scratch space).
+        mj_model: MuJoCo model: the robot, its floor, actuators and sensors.
+        q0: Nominal walking posture, soles flat on z = 0, feet midpoint at x = y = 0.
+        foot_frames: Left and right sole frame names (Pinocchio frames and MuJoCo sites).
+        sole_size: Sole length and width [m].
+        com_height: CoM height above the soles in the nominal posture [m] (from the preset).
+        torso_frame: Frame to keep upright while walking.
+        joint_names: Actuated joints in Pinocchio's order.
+        gait: Walking defaults of the preset's ``[gait]`` table.
+        leg_limits: Leg limits of the footstep planners: the ``[gait]`` values, the half
+            stance width of ``q0`` where the table has none, the :class:`LegLimits` defaults
+            for the rest.
+        servo_gains: Position servo stiffness, damping and torque limit of each joint.
+    """
+
+    name: str
+    preset: RobotPreset
+    description_path: Path
+    model: pin.Model
+    data: pin.Data
+    mj_model: mujoco.MjModel
+    q0: np.ndarray
+    foot_frames: tuple[str, str]
+    sole_size: tuple[float, float]
+    com_height: float
+    torso_frame: str
+    joint_names: tuple[str, ...]
+    gait: GaitDefaults
+    leg_limits: LegLimits
+    servo_gains: ServoGains
+    _q_index: np.ndarray = field(repr=False)
+    _v_index: np.ndarray = field(repr=False)
+    _qpos_index: np.ndarray = field(repr=False)
+    _dof_index: np.ndarray = field(repr=False)
+    _ctrl_qpos_index: np.ndarray = field(repr=False)
+
+    @property
+    def total_mass(self) -> float:
+        """Total mass [kg]."""
+        return float(pin.computeTotalMass(self.model))
+
+    def frame_id(self, frame: str) -> int:
+        """Pinocchio frame index of ``frame``; raises :class:`FrameNotFound`."""
+        if not self.model.existFrame(frame):
+            raise FrameNotFound(frame, [f.name for f in self.model.frames], self.name)
+        return int(self.model.getFrameId(frame))
+
+    def compute_frame_placement(self, q: np.ndarray, frame: str) -> pin.SE3:
+        """World placement of ``frame`` at configuration ``q`` (Pinocchio)."""
+        frame_id = self.frame_id(frame)
+        pin.forwardKinematics(self.model, self.data, q)
+        return pin.updateFramePlacement(self.model, self.data, frame_id).copy()
+
+    def compute_sole_placements(self, q: np.ndarray) -> tuple[pin.SE3, pin.SE3]:
+        """World placements of the left and right soles at ``q``."""
+        left, right = self.foot_frames
+        return self.compute_frame_placement(q, left), self.compute_frame_placement(q, right)
+
+    def compute_com(self, q: np.ndarray) -> np.ndarray:
+        """Whole-body CoM position [m], shape (3,), at ``q``."""
+        return pin.centerOfMass(self.model, self.data, q).copy()
+
+    def initial_feet(self, q: np.ndarray | None = None) -> tuple[Footstep, Footstep]:
+        """Left and right footsteps of the soles at ``q`` (default ``q0``): the stance a
+        walk starts from."""
+        soles = self.compute_sole_placements(self.q0 if q is None else q)
+        feet = []
+        for side, sole in zip((Side.LEFT, Side.RIGHT), soles):
+            yaw = math.atan2(sole.rotation[1, 0], sole.rotation[0, 0])
+            feet.append(Footstep(side, sole.translation.copy(), yaw))
+        return feet[0], feet[1]
+
+    def q_to_qpos(self, q: np.ndarray) -> np.ndarray:
+        """Pinocchio configuration -> MuJoCo ``qpos``."""
+        qpos = np.zeros(self.mj_model.nq)
+        qpos[0:3] = q[0:3]
+        qpos[3:7] = (q[6], q[3], q[4], q[5])
+        qpos[self._qpos_index] = q[self._q_index]
+        return qpos
+
+    def qpos_to_q(self, qpos: np.ndarray) -> np.ndarray:
+        """MuJoCo ``qpos`` -> Pinocchio configuration (base quaternion normalized)."""
+        q = np.zeros(self.model.nq)
+        q[0:3] = qpos[0:3]
+        quat = np.asarray(qpos[3:7], dtype=float)
+        q[3:7] = np.array([quat[1], quat[2], quat[3], quat[0]]) / np.linalg.norm(quat)
+        q[self._q_index] = qpos[self._qpos_index]
+        return q
+
+    def v_to_qvel(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Pinocchio velocity at ``q`` -> MuJoCo ``qvel`` (base linear velocity to world)."""
+        qvel = np.zeros(self.mj_model.nv)
+        rotation = pin.Quaternion(np.asarray(q[3:7], dtype=float)).normalized().matrix()
+        qvel[0:3] = rotation @ v[0:3]
+        qvel[3:6] = v[3:6]
+        qvel[self._dof_index] = v[self._v_index]
+        return qvel
+
+    def qvel_to_v(self, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
+        """MuJoCo ``qvel`` at ``qpos`` -> Pinocchio velocity (base linear velocity to local)."""
+        v = np.zeros(self.model.nv)
+        w, x, y, z = np.asarray(qpos[3:7], dtype=float) / np.linalg.norm(qpos[3:7])
+        rotation = pin.Quaternion(w, x, y, z).matrix()
+        v[0:3] = rotation.T @ qvel[0:3]
+        v[3:6] = qvel[3:6]
+        v[self._v_index] = qvel[self._dof_index]
+        return v
+
+    def q_to_ctrl(self, q: np.ndarray) -> np.ndarray:
+        """Position-actuator targets (MuJoCo ``ctrl``, actuator order) holding posture ``q``."""
+        return self.q_to_qpos(q)[self._ctrl_qpos_index]

@@ -1,0 +1,202 @@
+"""The per-tick log of a simulated walk (:class:`WalkLog`) and its recorder."""
+
+from dataclasses import dataclass, fields
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from mpcwalk._checks import frozen_array
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.gait.contact_schedule import ContactSchedule
+
+if TYPE_CHECKING:
+    from mpcwalk.robot.robot import Robot
+
+#: Shapes of the empty series of a log with no tick (nj joints, nu actuators filled in).
+_EMPTY_SHAPES = {
+    "com": (0, 3),
+    "com_velocity": (0, 3),
+    "com_reference": (0, 2),
+    "zmp_reference": (0, 2),
+    "zmp_command": (0, 2),
+    "com_target": (0, 3),
+    "dcm_error": (0, 2),
+    "cop": (0, 3),
+    "contact": (0, 2),
+    "sole_positions": (0, 2, 3),
+    "sole_yaws": (0, 2),
+    "feet_reference": (0, 2, 3),
+    "base_rpy": (0, 3),
+}
+
+
+@dataclass(frozen=True)
+class WalkLog:
+    """Per-tick log of a simulated walk (n ticks, world frame, SI units).
+
+    Attributes:
+        time: End of each tick [s], shape (n,).
+        com: Measured CoM [m], (n, 3). com_velocity: [m/s], (n, 3).
+        com_reference: Generator CoM [m], (n, 2). zmp_reference: Generator ZMP [m], (n, 2).
+        zmp_command: Desired ZMP with the DCM feedback [m], (n, 2).
+        com_target: IK CoM target [m], (n, 3). dcm_error: [m], (n, 2).
+        cop: Measured CoP (paper M eq. 31) [m], (n, 3), NaN without contact.
+        contact: Measured contact of the left and right soles, (n, 2) bool.
+        sole_positions: Measured soles [m], (n, 2, 3). sole_yaws: [rad], (n, 2).
+        feet_reference: Sole references of the gait [m], (n, 2, 3).
+        base_rpy: IMU roll, pitch, yaw [rad], (n, 3).
+        joint_positions: Measured joints [rad], (n, nj). joint_targets: Servo targets, (n, nj).
+        actuator_force: Servo torques [N m], (n, nu).
+        ik_error: Largest CoM/sole position error of the IK [m], (n,).
+        generator_failed: Generator reported a failed solve, (n,) bool.
+        generator_tick, ik_tick, controller_tick, mujoco_step: Wall times [s], (n,).
+        joint_names: Joint names (``robot.joint_names``).
+        torque_limit: Torque limit of each actuator [N m] (inf: none), (nu,).
+    """
+
+    time: np.ndarray
+    com: np.ndarray
+    com_velocity: np.ndarray
+    com_reference: np.ndarray
+    zmp_reference: np.ndarray
+    zmp_command: np.ndarray
+    com_target: np.ndarray
+    dcm_error: np.ndarray
+    cop: np.ndarray
+    contact: np.ndarray
+    sole_positions: np.ndarray
+    sole_yaws: np.ndarray
+    feet_reference: np.ndarray
+    base_rpy: np.ndarray
+    joint_positions: np.ndarray
+    joint_targets: np.ndarray
+    actuator_force: np.ndarray
+    ik_error: np.ndarray
+    generator_failed: np.ndarray
+    generator_tick: np.ndarray
+    ik_tick: np.ndarray
+    controller_tick: np.ndarray
+    mujoco_step: np.ndarray
+    joint_names: tuple[str, ...]
+    torque_limit: np.ndarray
+
+    @staticmethod
+    def recorder(robot: "Robot", schedule: ContactSchedule) -> "WalkLogRecorder":
+        """An empty recorder for a walk of ``robot``."""
+        return WalkLogRecorder(robot)
+
+    def __len__(self) -> int:
+        return len(self.time)
+
+    def save(self, path: str | Path) -> Path:
+        """Write the log as ``.npz`` (every field) or ``.csv`` (the scalar and planar series,
+        one row per tick, with a header). Returns the path.
+
+        Raises:
+            ConfigurationError: Another suffix.
+        """
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if path.suffix == ".csv":
+            columns = self.csv_columns()
+            data = np.column_stack(list(columns.values()))
+            np.savetxt(path, data, delimiter=",", header=",".join(columns), comments="", fmt="%.6g")
+            return path
+        if path.suffix != ".npz":
+            raise ConfigurationError(
+                f"A walk log is written as .npz or .csv, got '{path.name}'; use e.g. walk_log.npz."
+            )
+        arrays: dict[str, Any] = {f.name: np.asarray(getattr(self, f.name)) for f in fields(self)}
+        np.savez_compressed(path, **arrays)
+        return path
+
+    def csv_columns(self) -> dict[str, np.ndarray]:
+        """Named columns of the CSV form of the log."""
+        columns = {"time": self.time}
+        for name, axes in (
+            ("com", "xyz"),
+            ("com_velocity", "xyz"),
+            ("com_reference", "xy"),
+            ("zmp_reference", "xy"),
+            ("zmp_command", "xy"),
+            ("cop", "xy"),
+            ("dcm_error", "xy"),
+            ("base_rpy", ("roll", "pitch", "yaw")),
+        ):
+            values = getattr(self, name)
+            for i, axis in enumerate(axes):
+                columns[f"{name}_{axis}"] = values[:, i]
+        for j, side in enumerate(("left", "right")):
+            columns[f"{side}_contact"] = self.contact[:, j].astype(float)
+            for i, axis in enumerate("xyz"):
+                columns[f"{side}_sole_{axis}"] = self.sole_positions[:, j, i]
+            columns[f"{side}_sole_yaw"] = self.sole_yaws[:, j]
+        for name in ("ik_error", "generator_tick", "ik_tick", "controller_tick", "mujoco_step"):
+            columns[name] = getattr(self, name)
+        columns["generator_failed"] = self.generator_failed.astype(float)
+        return columns
+
+
+class WalkLogRecorder:
+    """Accumulates the ticks of a walk, then :meth:`freeze` makes the :class:`WalkLog`."""
+
+    def __init__(self, robot: "Robot") -> None:
+        self.robot = robot
+        self.rows: dict[str, list] = {
+            f.name: [] for f in fields(WalkLog) if f.name not in ("joint_names", "torque_limit")
+        }
+
+    def append(
+        self, output, state, actuator_force, mujoco_step: float, controller_tick: float
+    ) -> None:
+        """Record one tick: controller output, simulation state after the tick, wall times [s]."""
+        rows, m = self.rows, state.measurements
+        rows["time"].append(state.time)
+        rows["com"].append(m.com)
+        rows["com_velocity"].append(m.com_velocity)
+        rows["com_reference"].append(output.generator.com)
+        rows["zmp_reference"].append(output.generator.zmp)
+        rows["zmp_command"].append(output.zmp_command)
+        rows["com_target"].append(output.com_target)
+        rows["dcm_error"].append(output.dcm_error)
+        rows["cop"].append(m.cop)
+        rows["contact"].append((m.left_foot.in_contact, m.right_foot.in_contact))
+        rows["sole_positions"].append(state.sole_positions)
+        rows["sole_yaws"].append(state.sole_yaws)
+        rows["feet_reference"].append((output.feet.left.position, output.feet.right.position))
+        rows["base_rpy"].append((m.imu.roll, m.imu.pitch, m.imu.yaw))
+        rows["joint_positions"].append(m.joint_positions)
+        rows["joint_targets"].append(output.joint_targets)
+        rows["actuator_force"].append(np.array(actuator_force))
+        rows["ik_error"].append(output.ik.task_errors.position_max)
+        rows["generator_failed"].append(output.generator_failed)
+        rows["generator_tick"].append(output.generator_tick)
+        rows["ik_tick"].append(output.ik_tick)
+        rows["controller_tick"].append(controller_tick)
+        rows["mujoco_step"].append(mujoco_step)
+
+    def freeze(self) -> WalkLog:
+        """The log so far."""
+        model = self.robot.mj_model
+        limit = np.where(
+            model.actuator_forcelimited.astype(bool),
+            np.abs(model.actuator_forcerange).max(axis=1),
+            np.inf,
+        )
+        nj, nu = len(self.robot.joint_names), model.nu
+        empty = {
+            **_EMPTY_SHAPES,
+            "joint_positions": (0, nj),
+            "joint_targets": (0, nj),
+            "actuator_force": (0, nu),
+        }
+        arrays = {}
+        for name, values in self.rows.items():
+            dtype = bool if name in ("contact", "generator_failed") else float
+            arrays[name] = frozen_array(
+                values if values else np.zeros(empty.get(name, (0,))), dtype=dtype
+            )
+        return WalkLog(
+            **arrays, joint_names=tuple(self.robot.joint_names), torque_limit=frozen_array(limit)
+        )
