@@ -172,3 +172,38 @@ class PackageDataNotFound(MpcwalkError, FileNotFoundError):
             f"{reason}; install mpcwalk with pip (`pip install -e .` in a checkout of the "
             "repository, or from a wheel) instead of putting its source on sys.path."
         )
+
+
+class SensorModelError(ConfigurationError):
+    """A sensor model has a noise, bias, resolution or latency outside its range.
+
+    Attributes:
+        field: Name of the offending field.
+        value: The value it was given.
+    """
+
+    def __init__(self, field: str, value: Any, expected: str) -> None:
+        self.field = field
+        self.value = value
+        super().__init__(
+            f"SensorModel.{field} must be {expected}, got {value!r}; fix it, or start from "
+            "SensorModel.for_robot(robot) and use scaled(x) or with_latency(n)."
+        )
+
+
+class PerturbationError(ConfigurationError):
+    """A perturbation of the simulated robot (mass, CoM offset, friction, servo strength)
+    lies outside its range.
+
+    Attributes:
+        field: Name of the offending field.
+        value: The value it was given.
+    """
+
+    def __init__(self, field: str, value: Any, expected: str) -> None:
+        self.field = field
+        self.value = value
+        super().__init__(
+            f"Perturbation.{field} must be {expected}, got {value!r}; choose a value in that "
+            "range (Perturbation() is the robot as modelled)."
+        )

@@ -1,13 +1,15 @@
-"""Hand-built sensor readings and stabilizer inputs: stabilizers tested without a controller
-or a simulator."""
+"""Hand-built estimated states and stabilizer inputs: stabilizers tested without a controller,
+an estimator or a simulator."""
 
 import numpy as np
+import pinocchio as pin
 
 from mpcwalk.control.gait_reference import GaitTargets
 from mpcwalk.control.stabilizers.base import StabilizerInput
+from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.swing_foot import FeetState, FootState, SwingFootTrajectory
-from mpcwalk.robot.sensors import FootContact, ImuReading, Measurements
+from mpcwalk.robot.sensors import FootContact, ForceTorqueReading, ImuReading, SensorReadings
 
 _ZERO3 = np.zeros(3)
 
@@ -17,41 +19,79 @@ def foot(position, in_contact: bool = True, yaw: float = 0.0) -> FootState:
     return FootState(np.array(position, dtype=float), yaw, _ZERO3, 0.0, in_contact)
 
 
-def measurements(
+def estimated_state(
     *,
     com=(0.0, 0.0, 0.0),
+    com_velocity=(0.0, 0.0, 0.0),
     sole_positions=((0.0, 0.05, 0.0), (0.0, -0.05, 0.0)),
     sole_rotations=None,
     gyro=(0.0, 0.0, 0.0),
-    quaternion=(1.0, 0.0, 0.0, 0.0),
-    roll: float = 0.0,
-    pitch: float = 0.0,
-    yaw: float = 0.0,
+    base_rotation=None,
+    q=None,
+    wrenches=None,
+    in_contact=(True, True),
+    cop=(0.0, 0.0, 0.0),
+    omega: float = 6.5,
     nb_joints: int = 0,
-) -> Measurements:
-    """Readings of a robot standing still on both feet, with the given fields."""
-    contact = FootContact(_ZERO3, _ZERO3, np.full(3, np.nan), True, 4)
-    imu = ImuReading(
-        np.array(gyro, float),
-        np.array([0.0, 0.0, 9.81]),
-        np.array(quaternion, float),
-        roll,
-        pitch,
-        yaw,
+) -> EstimatedState:
+    """The estimate of a robot standing still on both feet, with the given fields.
+
+    ``wrenches`` are the left and right (force, torque) readings in the sole frames (zero by
+    default); ``base_rotation`` (default identity) sets the roll, pitch and yaw; ``q`` (default
+    the base at the origin with ``base_rotation``, joints at 0) the configuration.
+    """
+    rotation = np.eye(3) if base_rotation is None else np.asarray(base_rotation, dtype=float)
+    roll, pitch, yaw = (float(a) for a in pin.rpy.matrixToRpy(rotation))
+    if q is None:
+        quaternion = pin.Quaternion(rotation).coeffs()  # x, y, z, w
+        q = np.concatenate([np.zeros(3), quaternion, np.zeros(nb_joints)])
+    q = np.asarray(q, dtype=float)
+    if wrenches is None:
+        wrenches = ((_ZERO3, _ZERO3), (_ZERO3, _ZERO3))
+    readings = [ForceTorqueReading(np.array(f, float), np.array(t, float)) for f, t in wrenches]
+    sensors = SensorReadings(
+        time=0.0,
+        imu=ImuReading(np.array(gyro, float), np.array([0.0, 0.0, 9.81])),
+        joint_positions=q[7:].copy(),
+        left_wrench=readings[0],
+        right_wrench=readings[1],
     )
     rotations = np.array([np.eye(3), np.eye(3)]) if sole_rotations is None else sole_rotations
-    return Measurements(
-        imu=imu,
-        left_foot=contact,
-        right_foot=contact,
-        cop=np.zeros(3),
-        has_cop=True,
-        com=np.array(com, dtype=float),
-        com_velocity=np.zeros(3),
-        joint_positions=np.zeros(nb_joints),
-        joint_velocities=np.zeros(nb_joints),
-        sole_positions=np.array(sole_positions, dtype=float),
-        sole_rotations=np.array(rotations, dtype=float),
+    rotations = np.array(rotations, dtype=float)
+    positions = np.array(sole_positions, dtype=float)
+    feet = [
+        FootContact(
+            rotations[i] @ readings[i].force,
+            rotations[i] @ readings[i].torque,
+            positions[i] if in_contact[i] else np.full(3, np.nan),
+            bool(in_contact[i]),
+        )
+        for i in range(2)
+    ]
+    com, com_velocity = np.array(com, dtype=float), np.array(com_velocity, dtype=float)
+    return EstimatedState(
+        time=0.0,
+        source="estimator",
+        sensors=sensors,
+        q=q,
+        v=np.zeros(len(q) - 1),
+        base_position=q[:3].copy(),
+        base_rotation=rotation,
+        base_linear_velocity=np.zeros(3),
+        roll=roll,
+        pitch=pitch,
+        yaw=yaw,
+        left_foot=feet[0],
+        right_foot=feet[1],
+        cop=np.array(cop, dtype=float),
+        has_cop=any(in_contact),
+        com=com,
+        com_velocity=com_velocity,
+        dcm=com[:2] + com_velocity[:2] / omega,
+        joint_positions=q[7:].copy(),
+        joint_velocities=np.zeros(len(q) - 7),
+        sole_positions=positions,
+        sole_rotations=rotations,
     )
 
 
@@ -66,7 +106,8 @@ def stabilizer_input(
     q_ref=None,
     com_reference=None,
     zmp_reference=(0.0, 0.0),
-    sensors: Measurements | None = None,
+    state: EstimatedState | None = None,
+    dcm_error=(0.0, 0.0),
     control_period: float = 0.01,
 ) -> StabilizerInput:
     """A stabilizer input built by hand: the schedule's feet at ``t`` unless given, the robot
@@ -84,5 +125,6 @@ def stabilizer_input(
         q_ref=q_ref,
         com_reference=com,
         zmp_reference=np.array(zmp_reference, dtype=float),
-        measurements=sensors,
+        state=state,
+        dcm_error=np.array(dcm_error, dtype=float),
     )

@@ -201,3 +201,84 @@ def test_lengths_print_with_their_digits():
     assert format_length(4e-6) == "0.004 mm"  # not "0.00 cm"
     assert format_length(-0.0123) == "-12.3 mm"
     assert format_length(None) == "n/a"
+
+
+def test_walk_help_shows_the_sensor_and_world_options(monkeypatch):
+    monkeypatch.setenv("COLUMNS", "200")
+    walk = dict(_parsers(build_parser()))["mpcwalk", "walk"]
+    text = " ".join(walk.format_help().split())
+    assert "sensors and world:" in text
+    text = text.split("sensors and world:", 1)[1]
+    for option, default in (
+        ("--noise-scale X", "(default: 1.0)"),
+        ("--latency S", "(default: one control period)"),
+        ("--state {estimator,oracle}", "(default: estimator; oracle with --ideal)"),
+        ("--mass-scale X", "(default: 1.0)"),
+        ("--com-offset DX,DY", "(default: 0,0)"),
+        ("--friction MU", "(default: the robot model's)"),
+        ("--servo-strength X", "(default: 1.0)"),
+        ("--seed N", "(default: 0)"),
+    ):
+        assert option in text and default in text.split(option, 1)[1][:300], option
+    assert "--ideal" in text
+
+
+def test_walk_world_options_map_onto_run_walk():
+    from mpcwalk.walking.world_arguments import world_options
+
+    args = build_parser().parse_args(
+        [
+            "walk",
+            "--out",
+            "x",
+            "--noise-scale",
+            "2",
+            "--latency",
+            "0.02",
+            "--state",
+            "oracle",
+            "--mass-scale",
+            "1.3",
+            "--com-offset",
+            "0.01,-0.005",
+            "--friction",
+            "0.4",
+            "--servo-strength",
+            "0.8",
+            "--seed",
+            "5",
+        ]
+    )
+    assert world_options(args) == {
+        "noise_scale": 2.0,
+        "latency": 0.02,
+        "ideal": False,
+        "state": "oracle",
+        "mass_scale": 1.3,
+        "com_offset": (0.01, -0.005),
+        "friction": 0.4,
+        "servo_strength": 0.8,
+        "seed": 5,
+    }
+    defaults = world_options(build_parser().parse_args(["walk", "--out", "x"]))
+    assert defaults["state"] is None and defaults["com_offset"] == (0.0, 0.0)
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--com-offset", "0.01"], "--com-offset takes two numbers DX,DY in metres, got '0.01'"),
+        (["--noise-scale", "-1"], "noise_scale must be >= 0"),
+        (["--latency", "0.015"], "latency = 0.015 s is not a multiple of the control period"),
+        (["--ideal", "--noise-scale", "2"], "ideal sensors have no noise and no latency"),
+        (["--mass-scale", "0"], r"Perturbation.mass_scale must be a number in [0.1, 10]"),
+        (["--friction", "-1"], r"Perturbation.friction must be a number in [0.01, 10]"),
+        (["--seed", "-2"], "seed must be an integer >= 0"),
+    ],
+)
+def test_walk_bad_world_options_exit_with_code_2(tmp_path, capsys, argv, message):
+    code = main(["walk", "--out", str(tmp_path / "out"), "--steps", "1", "--no-progress", *argv])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert err.startswith("mpcwalk: error: ") and message in err, err
+    assert not (tmp_path / "out" / "metrics.json").exists()

@@ -51,14 +51,14 @@ def test_feedforward_makes_the_servos_hold_a_one_foot_stance(robot):
     feedforward = ServoFeedforward(robot)
     held = hold(robot, shifted, raised, feedforward)
     sagged = hold(robot, shifted, raised, None)
-    error_held = np.abs(held.measurements.joint_positions - raised[7:]).max()
-    error_sagged = np.abs(sagged.measurements.joint_positions - raised[7:]).max()
+    error_held = np.abs(held.oracle.joint_positions - raised[7:]).max()
+    error_sagged = np.abs(sagged.oracle.joint_positions - raised[7:]).max()
     assert error_held < 0.015  # [rad]
     assert error_sagged > 0.05  # kp = 10 N m/rad servos sag by degrees under the robot
-    assert not held.measurements.right_foot.in_contact
-    assert sagged.measurements.right_foot.in_contact  # the foot never leaves the ground
+    assert not held.oracle.right_foot.in_contact
+    assert sagged.oracle.right_foot.in_contact  # the foot never leaves the ground
     target = robot.compute_com(raised)[:2]
-    assert np.linalg.norm(held.measurements.com[:2] - target) < 0.005
+    assert np.linalg.norm(held.oracle.com[:2] - target) < 0.005
 
 
 def test_servo_parameters_come_from_the_mujoco_actuators(robot):

@@ -4,7 +4,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from conftest import get_robot, walk_outputs
-from stabilizer_inputs import measurements
+from stabilizer_inputs import estimated_state
 
 from mpcwalk.control.controller import ControlOutput, WalkingController
 from mpcwalk.control.dcm_feedback import DcmFeedback, project_into_polygon, shrink_polygon
@@ -112,7 +112,9 @@ def test_a_measurement_on_the_reference_changes_nothing_and_an_offset_shifts_the
     robot = get_robot()
     schedule = make_schedule(robot, nb_steps=2)
     open_loop = WalkingController.for_robot(robot, "mpc", schedule)
-    closed = WalkingController.for_robot(robot, "mpc", schedule, observer_gain=0.5, dcm_gain=3.0)
+    closed = WalkingController.for_robot(
+        robot, "mpc", schedule, observer_gain=0.5, dcm_gain=3.0, balance=False
+    )  # the proportional DCM feedback alone
     open_loop.reset()
     out = closed.reset()
     for _ in range(30):  # standing: the measurement sits exactly on the reference
@@ -234,8 +236,8 @@ def test_bad_inputs_raise_named_errors():
     with pytest.raises(ConfigurationError, match="size nq"):
         controller.reset(np.zeros(3))
     controller.reset()
-    with pytest.raises(ConfigurationError, match=r"Measurements \(a simulation state's"):
-        controller.step(measurement=[0.0, 0.0])
+    with pytest.raises(ConfigurationError, match=r"steps on an EstimatedState \(the estimator's"):
+        controller.step(state=[0.0, 0.0])
 
 
 def test_measured_com_is_anchored_to_the_planned_feet():
@@ -284,11 +286,11 @@ def test_stabilizer_sees_a_typed_input_with_the_references_of_the_measurement_ti
     )
     first = controller.reset()
     kind, inputs = seen[0]
-    assert kind == "reset" and inputs.measurements is None and inputs.time == first.time
-    sensors = measurements(com=robot.compute_com(robot.q0), nb_joints=len(robot.joint_names))
-    second = controller.step(sensors)
+    assert kind == "reset" and inputs.state is None and inputs.time == first.time
+    state = estimated_state(com=robot.compute_com(robot.q0), q=robot.q0)
+    second = controller.step(state)
     (_, before), (_, after) = seen[1:]
-    assert isinstance(before, StabilizerInput) and before.measurements is sensors
+    assert isinstance(before, StabilizerInput) and before.state is state
     assert before.time == after.time == second.time
     np.testing.assert_array_equal(before.q_ref, first.q_ref)  # the IK's starting point
     np.testing.assert_array_equal(after.q_ref, second.q_ref)  # this tick's reference

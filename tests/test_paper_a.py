@@ -5,7 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from conftest import get_robot
-from stabilizer_inputs import foot, measurements, stabilizer_input
+from stabilizer_inputs import estimated_state, foot, stabilizer_input
 
 from mpcwalk.control.stabilizers import Stabilizer, StabilizerChain, make_stabilizer
 from mpcwalk.control.stabilizers.ankle_imu import AnkleImuStabilizer
@@ -110,8 +110,8 @@ def test_reaiming_stabilizer_works_from_a_hand_built_input():
     t = schedule.walk_start + 0.3  # step 0: the right foot swings, the left one supports
     drift = np.array([0.03, -0.01, 0.0])
     support = schedule.plan.support_foot(0).position + drift
-    sensors = measurements(sole_positions=(support, schedule.plan.initial_right.position))
-    inputs = stabilizer_input(robot, schedule, t=t, sensors=sensors)
+    state = estimated_state(sole_positions=(support, schedule.plan.initial_right.position))
+    inputs = stabilizer_input(robot, schedule, t=t, state=state)
     chain.reset(inputs)
     assert machine.schedule is schedule
     targets = chain.adjust_targets(inputs)
@@ -214,16 +214,27 @@ def test_paper_a_gait_walks_with_ankle_imu():
     result = walk_path(spec, STRAIGHT, nb_steps=3)
     assert not result.fall.fell
     assert result.metrics.steps_completed == 3
-    # Faster (3 s per step) the ankle strategy and IMU correction make the difference over
-    # four steps (on the whole path it still falls, at step 7, and at step 2 without them).
+    assert result.metrics.foot_position_error_cm_max < PAPER_A_ROW["position_error_max_cm"]
+    assert result.config.stabilizer == "paper-a+ankle-imu"
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(
+    strict=True,
+    reason="on the estimated state with one control period of latency the 3 s gait falls at "
+    "11.6 s with the ankle strategy too (it walked on the ground truth); the papers' engines "
+    "under sensing are issue 12's",
+)
+def test_ankle_strategy_makes_the_difference_at_three_seconds_a_step():
+    """Faster (3 s per step) the ankle strategy and IMU correction make the difference over
+    four steps (on the whole path it still falls, at step 7, and at step 2 without them)."""
     fast = dict(double_support_ratio=0.5, swing_profile="ctraj")
+    without = walk_path(ControllerSpec("b", "static", 3.0, **fast), STRAIGHT, nb_steps=4)
+    assert without.fall.fell
     with_ankle = walk_path(
         ControllerSpec("a", "static", 3.0, ankle_imu=True, **fast), STRAIGHT, nb_steps=4
     )
-    without = walk_path(ControllerSpec("b", "static", 3.0, **fast), STRAIGHT, nb_steps=4)
-    assert not with_ankle.fall.fell and without.fall.fell
-    assert result.metrics.foot_position_error_cm_max < PAPER_A_ROW["position_error_max_cm"]
-    assert result.config.stabilizer == "paper-a+ankle-imu"
+    assert not with_ankle.fall.fell
 
 
 def test_walk_cli_builds_paper_a_stabilizer():
@@ -276,13 +287,13 @@ def test_ankle_strategy_turns_the_body_back_over_the_foot(com_offset, joint, sig
     names = robot.joint_names
     stabilizer = AnkleImuStabilizer(kp=0.5, ki=0.2, kd=0.0, imu_gain=0.0)
     feet = FeetState(0.0, 0, foot([0.0, 0.1, 0.0]), foot([0.0, -0.1, 0.05], in_contact=False))
-    sensors = measurements(
+    state = estimated_state(
         com=(com_offset[0], 0.1 + com_offset[1], 1.0),
         sole_positions=((0.0, 0.1, 0.0), (0.0, -0.1, 0.05)),
         nb_joints=len(names),
     )
     inputs = stabilizer_input(
-        robot, _schedule(), t=0.01, feet=feet, com_reference=(0.0, 0.1, 1.0), sensors=sensors
+        robot, _schedule(), t=0.01, feet=feet, com_reference=(0.0, 0.1, 1.0), state=state
     )
     stabilizer.reset(inputs)
     assert inputs.support_weights == (1.0, 0.0)  # all on the left foot

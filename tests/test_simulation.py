@@ -1,20 +1,21 @@
-"""MuJoCo simulation: standing, contact wrenches and CoP, CoM, pushes, falls, video."""
+"""MuJoCo simulation: standing, contact wrenches and CoP, CoM, the oracle, pushes, falls, video."""
 
+import mujoco
 import numpy as np
 import pinocchio as pin
 import pytest
 from conftest import get_robot
 
+from mpcwalk.estimation import EstimatedState
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.models.support_polygon import SupportPolygon, foot_rectangle
-from mpcwalk.robot import Measurements, robot_names
+from mpcwalk.robot import SensorReadings, robot_names
 from mpcwalk.sim import (
     ExternalForce,
     FallDetector,
     PushFormatError,
     RenderingUnavailable,
-    SensorNoise,
-    SimState,
+    SensorModel,
     Simulation,
     SimulationUnstable,
     VideoDependencyMissing,
@@ -54,7 +55,7 @@ def cop_from_newton_euler(robot, sim, state, force, point):
     com = robot.data.com[0]
     f = dh.linear - force - robot.total_mass * robot.model.gravity.linear
     moment = dh.angular - np.cross(point - com, force)
-    height = com[2] - state.measurements.cop[2]
+    height = com[2] - state.oracle.cop[2]
     cop_x = com[0] - (moment[1] + height * f[0]) / f[2]
     cop_y = com[1] + (moment[0] - height * f[1]) / f[2]
     return f, np.array([cop_x, cop_y])
@@ -68,19 +69,19 @@ def test_robot_stands_with_cop_inside_both_feet_and_weight_on_the_soles(name):
     margins = []
     for _ in range(100):  # 1 s
         state = sim.step(robot.q0)
-        measurements = state.measurements
-        assert measurements.has_cop
-        margins.append(support_polygon(state, robot).signed_distance(measurements.cop[:2]))
+        truth = state.oracle
+        assert truth.has_cop
+        margins.append(support_polygon(state, robot).signed_distance(truth.cop[:2]))
         assert not detector.check(state).fell
     assert state.time == pytest.approx(1.0)
     assert min(margins) > 0.005  # [m] CoP inside the support polygon at every tick
-    assert measurements.left_foot.in_contact and measurements.right_foot.in_contact
-    total = measurements.left_foot.normal_force + measurements.right_foot.normal_force
+    assert truth.left_foot.in_contact and truth.right_foot.in_contact
+    total = truth.left_foot.normal_force + truth.right_foot.normal_force
     assert total == pytest.approx(weight(robot), rel=0.02)
     # the overall CoP is the force-weighted mean of the feet's CoPs (eq. 31 on all points)
-    feet = measurements.feet
+    feet = truth.feet
     mean = sum(f.normal_force * f.cop for f in feet) / sum(f.normal_force for f in feet)
-    np.testing.assert_allclose(measurements.cop, mean, atol=1e-12)
+    np.testing.assert_allclose(truth.cop, mean, atol=1e-12)
     for side, foot in enumerate(feet):
         assert foot_rectangle(
             state.sole_positions[side], state.sole_yaws[side], *robot.sole_size
@@ -106,12 +107,12 @@ def test_com_and_its_velocity_match_pinocchio(name):
         np.testing.assert_allclose(state.q, q, atol=1e-12)
         np.testing.assert_allclose(state.v, v, atol=1e-12)
         pin.centerOfMass(robot.model, robot.data, q, v)
-        np.testing.assert_allclose(state.measurements.com, robot.data.com[0], atol=1e-9)
-        np.testing.assert_allclose(state.measurements.com_velocity, robot.data.vcom[0], atol=1e-9)
+        np.testing.assert_allclose(state.oracle.com, robot.data.com[0], atol=1e-9)
+        np.testing.assert_allclose(state.oracle.com_velocity, robot.data.vcom[0], atol=1e-9)
     sim.reset()
     for _ in range(20):
         state = sim.step()
-    np.testing.assert_allclose(state.measurements.com, robot.compute_com(state.q), atol=1e-9)
+    np.testing.assert_allclose(state.oracle.com, robot.compute_com(state.q), atol=1e-9)
 
 
 @pytest.mark.parametrize("name", MAIN_ROBOTS)
@@ -127,8 +128,8 @@ def test_contact_wrench_and_cop_obey_newton_euler_during_a_push(name):
         if tick % 10 == 9:
             point = sim.data.xpos[torso] + sim.data.xmat[torso].reshape(3, 3) @ offset
             f, cop = cop_from_newton_euler(robot, sim, state, force, point)
-            np.testing.assert_allclose(state.measurements.total_force, f, atol=1e-6 * weight(robot))
-            np.testing.assert_allclose(state.measurements.cop[:2], cop, atol=2e-4)
+            np.testing.assert_allclose(state.oracle.total_force, f, atol=1e-6 * weight(robot))
+            np.testing.assert_allclose(state.oracle.cop[:2], cop, atol=2e-4)
 
 
 @pytest.mark.parametrize("name", MAIN_ROBOTS)
@@ -138,7 +139,7 @@ def test_lateral_force_shifts_the_cop_towards_the_push(name):
     for sign in (-1.0, 0.0, 1.0):
         force = [0.0, sign * 0.05 * weight(robot), 0.0]
         sim = Simulation(robot, disturbances=[ExternalForce(0.0, 5.0, force)])
-        cops = [sim.step().measurements.cop[1] for _ in range(100)]
+        cops = [sim.step().oracle.cop[1] for _ in range(100)]
         shifts[sign] = np.mean(cops[50:])  # mean over [0.5, 1] s: sways average out
     assert shifts[1.0] - shifts[0.0] > 0.01
     assert shifts[-1.0] - shifts[0.0] < -0.01
@@ -151,11 +152,11 @@ def test_cop_under_a_steady_push_matches_the_static_moment_balance():
     sim = Simulation(robot, disturbances=[ExternalForce(0.0, 10.0, [0.0, force, 0.0])])
     for _ in range(300):
         state = sim.step()
-    measurements = state.measurements
-    height = sim.data.xipos[sim.model.body(robot.torso_frame).id][2] - measurements.cop[2]
-    expected = measurements.com[1] + force * height / measurements.total_force[2]
-    assert measurements.cop[1] == pytest.approx(expected, abs=5e-4)
-    assert measurements.total_force[1] == pytest.approx(-force, rel=0.02)
+    truth = state.oracle
+    height = sim.data.xipos[sim.model.body(robot.torso_frame).id][2] - truth.cop[2]
+    expected = truth.com[1] + force * height / truth.total_force[2]
+    assert truth.cop[1] == pytest.approx(expected, abs=5e-4)
+    assert truth.total_force[1] == pytest.approx(-force, rel=0.02)
 
 
 @pytest.mark.parametrize("name", MAIN_ROBOTS)
@@ -178,10 +179,10 @@ def test_no_contact_in_the_air_leaves_the_cop_undefined():
     robot = get_robot("g1")
     lifted = robot.q0.copy()
     lifted[2] += 0.3
-    measurements = Simulation(robot).reset(lifted).measurements
-    assert not measurements.has_cop and np.all(np.isnan(measurements.cop))
-    for foot in measurements.feet:
-        assert not foot.in_contact and foot.nb_points == 0 and np.all(np.isnan(foot.cop))
+    truth = Simulation(robot).reset(lifted).oracle
+    assert not truth.has_cop and np.all(np.isnan(truth.cop))
+    for foot in truth.feet:
+        assert not foot.in_contact and np.all(np.isnan(foot.cop))
         np.testing.assert_array_equal(foot.force, np.zeros(3))
 
 
@@ -258,37 +259,54 @@ def test_diverging_simulation_is_reported_not_silently_reset(monkeypatch, tmp_pa
         sim.step()
 
 
-def test_imu_readings_and_sensor_noise():
+def test_oracle_imu_and_euler_angles_of_a_standing_robot():
     robot = get_robot("g1")
-    sim = Simulation(robot)
+    sim = Simulation(robot, sensors=SensorModel.ideal())
     for _ in range(50):
         state = sim.step()
-    imu = state.measurements.imu
-    assert np.linalg.norm(imu.accelerometer) == pytest.approx(9.81, rel=0.01)
-    assert abs(imu.roll) < 0.05 and abs(imu.pitch) < 0.05
-    noisy = [
-        Simulation(robot, seed=seed, sensor_noise=SensorNoise(0.01, 0.1, 0.001)).step()
-        for seed in (1, 1, 2)
-    ]
-    gyros = [s.measurements.imu.gyro for s in noisy]
-    np.testing.assert_array_equal(gyros[0], gyros[1])
-    assert not np.allclose(gyros[0], gyros[2])
-    np.testing.assert_array_equal(noisy[0].q, noisy[2].q)  # ground truth has no noise
-    com_state = state.measurements.com_state()
-    np.testing.assert_array_equal(com_state.position, state.measurements.com[:2])
+    truth = state.oracle
+    assert np.linalg.norm(truth.imu.accelerometer) == pytest.approx(9.81, rel=0.01)
+    assert abs(truth.roll) < 0.05 and abs(truth.pitch) < 0.05
+    rpy = pin.rpy.matrixToRpy(state.base_rotation)
+    np.testing.assert_allclose((truth.roll, truth.pitch, truth.yaw), rpy, atol=1e-12)
+    np.testing.assert_array_equal(truth.com_state().position, truth.com[:2])
+    omega = np.sqrt(9.81 / robot.com_height)
+    np.testing.assert_allclose(truth.dcm, truth.com[:2] + truth.com_velocity[:2] / omega)
 
 
-def test_measurements_are_the_typed_readings_a_controller_gets():
-    """What the controller reads (robot.sensors.Measurements) carries the measured soles; the
-    simulation's ground truth (SimState) stays beside it."""
+def test_the_oracle_is_the_controllers_state_type_and_the_sensors_are_raw_readings():
+    """The oracle is an EstimatedState (source "oracle") of the ground truth; the sensor
+    readings carry no state (no CoM, no pose): the estimator must build it."""
     robot = get_robot("bioloid-like")
     state = Simulation(robot).step()
-    sensors = state.measurements
-    assert isinstance(sensors, Measurements) and not isinstance(sensors, SimState)
-    np.testing.assert_array_equal(sensors.sole_positions, state.sole_positions)
-    np.testing.assert_array_equal(sensors.sole_yaws, state.sole_yaws)
-    assert sensors.sole_rotations.shape == (2, 3, 3) and not sensors.sole_positions.flags.writeable
-    np.testing.assert_array_equal(sensors.joint_velocities, state.v[6:])
+    oracle = state.oracle
+    assert isinstance(oracle, EstimatedState) and oracle.source == "oracle"
+    assert oracle.time == state.time
+    np.testing.assert_array_equal(oracle.sole_positions, state.sole_positions)
+    np.testing.assert_array_equal(oracle.sole_yaws, state.sole_yaws)
+    np.testing.assert_array_equal(oracle.q, state.q)
+    np.testing.assert_array_equal(oracle.joint_velocities, state.v[6:])
+    np.testing.assert_allclose(
+        oracle.base_linear_velocity, state.base_rotation @ state.v[:3], rtol=0.0, atol=1e-15
+    )
+    assert oracle.sole_rotations.shape == (2, 3, 3) and not oracle.sole_positions.flags.writeable
+    assert isinstance(state.sensors, SensorReadings)
+    assert not {"com", "q", "sole_positions", "cop"} & set(vars(state.sensors))
+
+
+def test_contact_wrenches_decoded_at_once_equal_mujocos_contact_force():
+    robot = get_robot("g1")
+    sim = Simulation(robot, disturbances=[ExternalForce(0.0, 1.0, [30.0, 20.0, 0.0])])
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        sim.step(robot.q0[7:] + rng.normal(0.0, 0.03, robot.model.nq - 7))
+    index = np.arange(sim.data.ncon)
+    assert len(index) >= 4  # measured: 5 contacts
+    expected = np.zeros((len(index), 6))
+    for row, i in enumerate(index):
+        mujoco.mj_contactForce(sim.model, sim.data, int(i), expected[row])
+    decoded = sim.contacts._contact_wrenches(sim.model, sim.data, index)
+    np.testing.assert_allclose(decoded, expected, rtol=0.0, atol=1e-12)  # measured: 0.0
 
 
 def test_quaternion_to_rpy_matches_pinocchio():

@@ -1,6 +1,6 @@
 """What one tick of the walking controller hands out."""
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -23,7 +23,7 @@ class ControlOutput:
         com_target: CoM target of the IK, shape (3,), in [m].
         zmp_command: Desired ZMP realised by the feed-forward (the generator's ZMP plus the
             DCM feedback), shape (2,), in [m].
-        dcm_error: Measured minus reference DCM, shape (2,), in [m] (zero in open loop).
+        dcm_error: Estimated minus reference DCM, shape (2,), in [m] (zero in open loop).
         generator: CoM/ZMP reference of the pattern generator.
         feet: Feet poses and velocities at ``time``.
         torso_yaw: Torso yaw target [rad].
@@ -33,6 +33,10 @@ class ControlOutput:
         ik_tick: Wall time of the IK step [s].
         generator_failed: The generator reported a failed solve this tick (its fallback, or
             the controller's, was used).
+        com_offset: The balance stabilizer's estimate of the robot's CoM offset from the
+            model's, shape (2,), in [m] (zero without it).
+        zmp_integral: The balance stabilizer's integral term in ``zmp_command``, shape (2,),
+            in [m] (zero without it).
     """
 
     time: float
@@ -48,3 +52,5 @@ class ControlOutput:
     generator_tick: float
     ik_tick: float
     generator_failed: bool = False
+    com_offset: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    zmp_integral: np.ndarray = field(default_factory=lambda: np.zeros(2))

@@ -15,13 +15,15 @@ One tick composes the parts of the walking pipeline (DESIGN.md, section 1):
    adds the offsets ``tau / kp`` that make compliant position servos carry the reference
    motion, with the contact wrench at the desired ZMP.
 
-A stabilizer (:mod:`mpcwalk.control.stabilizers`) may correct the targets of step 3 and the
-servo targets of step 5; it receives a typed
-:class:`~mpcwalk.control.stabilizers.base.StabilizerInput`, never the controller. In closed
-loop (:mod:`mpcwalk.control.dcm_feedback`) the measured CoM, anchored to the measured feet,
+The controller knows the robot through its estimated state (an
+:class:`~mpcwalk.estimation.estimated_state.EstimatedState`), never a simulator's ground
+truth. Stabilizers (:mod:`mpcwalk.control.stabilizers`: the balance stabilizer, on by default
+for the QP generators, then the papers' ones) correct the targets of step 3 and the servo
+targets of step 5 from a typed input, never the controller. In closed loop
+(:mod:`mpcwalk.control.dcm_feedback`) the estimated CoM, anchored to the estimated feet,
 reaches the generator through an observer, and the desired ZMP of step 5 is the generator's
-plus ``dcm_gain`` times the DCM error; the kinematic reference stays the generator's, so
-that the servos keep pulling the robot towards it.
+plus the DCM feedback; the kinematic reference stays the generator's, so that the servos
+keep pulling the robot towards it.
 """
 
 import time
@@ -34,7 +36,10 @@ from mpcwalk.control.control_output import ControlOutput
 from mpcwalk.control.dcm_feedback import DcmFeedback, measured_com_state, support_weights
 from mpcwalk.control.gait_reference import GaitReference, GaitTargets
 from mpcwalk.control.servo_feedforward import ServoFeedforward
+from mpcwalk.control.stabilizers.balance import make_balance
+from mpcwalk.control.stabilizers.balance_options import BalanceOptions
 from mpcwalk.control.stabilizers.base import Stabilizer, StabilizerInput
+from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.exceptions import ConfigurationError, NoSolutionFound, NotReset
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.swing_foot import FeetState, SwingFootTrajectory
@@ -43,9 +48,6 @@ from mpcwalk.ik.targets import IKResult
 from mpcwalk.ik.whole_body_ik import WholeBodyIK
 from mpcwalk.models.com_state import ComState
 from mpcwalk.robot.robot import Robot
-from mpcwalk.robot.sensors import Measurements
-
-_HEIGHT_TOLERANCE = 1e-6  # [m] generator CoM height vs robot CoM height
 
 
 class WalkingController:
@@ -61,7 +63,8 @@ class WalkingController:
             lift and lower), see :class:`~mpcwalk.gait.swing_foot.SwingFootTrajectory`.
         step_height: Swing-foot height [m]; None: the robot's ``gait.step_height`` (its
             preset's ``[gait]`` table, else paper M's 0.04 m).
-        feedback: Close the loop on the measured CoM when a measurement is given.
+        feedback: Close the loop on the estimated CoM when an estimate is given (False:
+            the open loop of paper M's configuration; no balance stabilizer).
         observer_gain: Share in [0, 1] of the measured CoM error given to the generator
             (default: the generator's :attr:`~PatternGenerator.observer_gain`; see
             :mod:`mpcwalk.control.dcm_feedback` for what it costs).
@@ -71,7 +74,12 @@ class WalkingController:
         servo_feedforward: Add the feed-forward offsets of compliant position servos.
         control_period: Duration of one tick [s].
         stabilizer: A :class:`~mpcwalk.control.stabilizers.base.Stabilizer` correcting the IK
-            targets and the servo targets from the measurement, or None.
+            targets and the servo targets from the estimated state, or None (applied after
+            the balance stabilizer).
+        balance: The balance stabilizer's :class:`BalanceOptions`, True (its defaults),
+            False (off), or None: on for the QP generators (``BALANCED_GENERATORS`` of
+            :mod:`mpcwalk.control.stabilizers.balance`), off for the closed forms. Always off
+            when ``feedback`` is False.
         arm_swing: Paper M's arm movement factor s (eq. 24-25; 0.8 in the paper): after the
             IK, the shoulder pitch joints swing each hand with the opposite foot. 0 keeps the
             arms in their nominal posture.
@@ -102,6 +110,7 @@ class WalkingController:
         stabilizer: Stabilizer | None = None,
         swing_profile: str = "cosine",
         arm_swing: float = 0.0,
+        balance: BalanceOptions | bool | None = None,
     ) -> None:
         if not (np.isfinite(control_period) and control_period > 0.0):
             raise ConfigurationError(
@@ -113,7 +122,7 @@ class WalkingController:
                 f"every {control_period:g} s; build the generator with "
                 f"control_period={control_period:g}."
             )
-        if abs(generator.lipm.com_height - robot.com_height) > _HEIGHT_TOLERANCE:
+        if abs(generator.lipm.com_height - robot.com_height) > 1e-6:  # [m]
             raise ConfigurationError(
                 f"The generator's LIPM has a CoM height of {generator.lipm.com_height:g} m but "
                 f"robot '{robot.name}' walks with {robot.com_height:g} m; build the generator "
@@ -141,6 +150,7 @@ class WalkingController:
         self.feedforward = ServoFeedforward(robot) if servo_feedforward else None
         self.control_period = float(control_period)
         self.stabilizer = stabilizer
+        self.balance = make_balance(balance, generator.name) if self.feedback else None
         self.arm_swing = ArmSwing(robot, arm_swing) if arm_swing else None
         self.nb_generator_failures = 0
         """Ticks whose generator reported a failed solve (or raised NoSolutionFound)."""
@@ -192,13 +202,23 @@ class WalkingController:
         return self.reference.trajectory
 
     # ------------------------------------------------------------------ helpers
+    @property
+    def _stabilizers(self) -> tuple[Stabilizer, ...]:
+        """The balance stabilizer and the stabilizer, in the order they are applied."""
+        return tuple(s for s in (self.balance, self.stabilizer) if s is not None)
+
     def _stabilizer_input(
-        self, t: float, targets: GaitTargets, measurements: Measurements | None
+        self,
+        t: float,
+        targets: GaitTargets,
+        state: EstimatedState | None,
+        dcm_error: np.ndarray | None = None,
     ) -> StabilizerInput:
         """What the stabilizer sees now: the references of the last output are those of the
-        measurement time, ``q_ref`` the controller's current one."""
+        estimate's time, ``q_ref`` the controller's current one."""
         previous = self.last_output
         assert previous is not None and self.q_ref is not None  # set by reset()
+        dcm_error = np.zeros(2) if dcm_error is None else dcm_error
         return StabilizerInput(
             time=t,
             control_period=self.control_period,
@@ -208,7 +228,9 @@ class WalkingController:
             q_ref=self.q_ref,
             com_reference=previous.com_target,
             zmp_reference=previous.zmp_command,
-            measurements=measurements,
+            zmp_planned=previous.generator.zmp,
+            state=state,
+            dcm_error=dcm_error,
         )
 
     def _step_generator(
@@ -295,35 +317,36 @@ class WalkingController:
             generator_tick=0.0,
             ik_tick=0.0,
         )
-        if self.stabilizer is not None:
-            self.stabilizer.reset(self._stabilizer_input(output.time, gait, None))
+        inputs = self._stabilizer_input(output.time, gait, None)
+        for stabilizer in self._stabilizers:
+            stabilizer.reset(inputs)
         return self.last_output
 
-    def step(self, measurement: Measurements | ComState | None = None) -> ControlOutput:
-        """One control tick.
+    def step(self, state: EstimatedState | ComState | None = None) -> ControlOutput:
+        """One control tick: the references one control period later and the joint targets.
 
         Args:
-            measurement: What the robot measured at the current time: its
-                :class:`~mpcwalk.robot.sensors.Measurements` (CoM anchored to the measured
-                soles, sensors for the stabilizer), a bare ComState (no anchoring, no
-                stabilizer input), or None (kinematic robot, open loop).
-
-        Returns:
-            The references one control period later and the joint targets.
+            state: What the controller knows of the robot now: its estimated state
+                (:class:`~mpcwalk.estimation.estimated_state.EstimatedState`: CoM anchored
+                to the estimated soles, sensors for the stabilizers), a bare ComState (no
+                anchoring, no stabilizer input), or None (kinematic robot, open loop).
 
         Raises:
             NotReset: :meth:`reset` was not called.
+            ConfigurationError: ``state`` is none of these.
         """
         if self.q_ref is None or self.last_output is None:
             raise NotReset("WalkingController.step() was called before reset(q).")
         previous = self.last_output
-        com_state = measured_com_state(measurement)
-        sensors = measurement if isinstance(measurement, Measurements) else None
+        com_state = measured_com_state(state)  # raises on anything else than these types
         measured = com_state if self.feedback else None
+        estimate = state if isinstance(state, EstimatedState) else None
+        balance = self.balance
         generator_input, dcm_error = None, np.zeros(2)
         if measured is not None:
+            offset = None if balance is None else balance.measured_com_offset(state)
             generator_input, dcm_error = self.dcm_feedback.observe(
-                measured, sensors, previous, self.time
+                measured, estimate, previous, self.time, offset
             )
         start = time.perf_counter()
         output, failed = self._step_generator(generator_input, dcm_error)
@@ -332,10 +355,9 @@ class WalkingController:
         if output.schedule is not None and output.schedule is not self.schedule:
             self.follow_schedule(output.schedule)
         gait = self.reference.targets(output.time, output.com)
-        if self.stabilizer is not None:
-            gait = self.stabilizer.adjust_targets(
-                self._stabilizer_input(output.time, gait, sensors)
-            )
+        for stabilizer in self._stabilizers:  # the balance stabilizer first
+            inputs = self._stabilizer_input(output.time, gait, estimate, dcm_error)
+            gait = stabilizer.adjust_targets(inputs)
         feet, yaw = gait.feet, gait.torso_yaw
         targets = self.reference.ik_targets(gait, output.time)
         start = time.perf_counter()
@@ -345,15 +367,17 @@ class WalkingController:
         if self.arm_swing is not None:  # a joint stage of its own after the IK
             q_next = self.arm_swing.apply(q_next, gait.com_xy, feet, yaw)
         self.q_ref = q_next
-        zmp_command = self.dcm_feedback.desired_zmp(output.time, output.zmp, dcm_error)
+        shift = None
+        if balance is not None and measured is not None:  # the balance's integral action
+            shift = balance.zmp_shift(dcm_error, self.control_period)
+        zmp_command = self.dcm_feedback.desired_zmp(output.time, output.zmp, dcm_error, shift)
         zmp_shift = zmp_command - output.zmp
         joint_targets = self._joint_targets(
             q_next, ik.v, previous.ik.v, zmp_command, zmp_shift, feet
         )
-        if self.stabilizer is not None:
-            joint_targets = self.stabilizer.adjust_joint_targets(
-                self._stabilizer_input(output.time, gait, sensors), joint_targets
-            )
+        inputs = self._stabilizer_input(output.time, gait, estimate, dcm_error)
+        for stabilizer in self._stabilizers:
+            joint_targets = stabilizer.adjust_joint_targets(inputs, joint_targets)
         self.last_output = ControlOutput(
             time=output.time,
             q_ref=q_next.copy(),
@@ -368,5 +392,7 @@ class WalkingController:
             generator_tick=generator_tick,
             ik_tick=ik_tick,
             generator_failed=failed,
+            com_offset=np.zeros(2) if balance is None else balance.com_offset,
+            zmp_integral=np.zeros(2) if shift is None else np.array(shift),
         )
         return self.last_output

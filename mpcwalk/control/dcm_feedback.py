@@ -1,18 +1,21 @@
-"""Closing the loop on the measured CoM of a position-controlled robot.
+"""Closing the loop on the estimated CoM of a position-controlled robot.
 
 The pattern generator's CoM is the reference of the whole-body IK, i.e. the servo targets.
-:class:`DcmFeedback` compares the measured CoM with it:
+:class:`DcmFeedback` compares the CoM the estimator computed from the robot's sensors
+(:class:`~mpcwalk.estimation.estimated_state.EstimatedState`) with it:
 
-1. **anchoring**: the measured CoM relative to the measured feet in contact is placed on
-   their planned poses (a landing a few millimetres off its footstep moves the whole robot;
-   balance depends on the CoM relative to the feet);
+1. **anchoring**: the estimated CoM relative to the estimated soles of the feet in contact is
+   placed on their planned poses (a landing a few millimetres off its footstep moves the
+   whole robot; balance depends on the CoM relative to the feet);
 2. **observer**: the generator may restart from the reference plus ``observer_gain`` times
    the error (closed-form generators ignore it);
 3. **DCM feedback**: the desired ZMP is the generator's plus ``dcm_gain`` times the error of
    the divergent component of motion ``xi = c + c_dot / omega`` (the error then decays at
    the rate ``omega (dcm_gain - 1)``), kept ``zmp_margin`` inside the planned support
    polygon. The controller realises it with the servo feed-forward torques, not by moving
-   the kinematic reference, so that the servos keep pulling the robot towards the plan.
+   the kinematic reference, so that the servos keep pulling the robot towards the plan. The
+   balance stabilizer (:mod:`mpcwalk.control.stabilizers.balance`) adds an integral term to
+   that ZMP and an estimated CoM offset to the measurement.
 
 Measured on the bioloid-like robot (kp = 10 N m/rad servos), 20 steps at 0.1 m/s with the
 MPC: restarting the generator from the raw measured state (``observer_gain = 1``) makes the
@@ -41,13 +44,13 @@ import numpy as np
 import pinocchio as pin
 
 from mpcwalk.control.control_output import ControlOutput
+from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Side, wrap_angle
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.swing_foot import FeetState
 from mpcwalk.generators.pattern_generator import GeneratorOutput
 from mpcwalk.models.com_state import ComState
-from mpcwalk.robot.sensors import Measurements
 
 
 def support_weights(zmp: np.ndarray, feet: FeetState) -> tuple[float, float]:
@@ -57,26 +60,28 @@ def support_weights(zmp: np.ndarray, feet: FeetState) -> tuple[float, float]:
         return 0.0, 1.0
     if not feet.right.in_contact:
         return 1.0, 0.0
-    left, right = feet.left.position[:2], feet.right.position[:2]
-    axis = left - right
-    share = float(np.clip(np.dot(zmp - right, axis) / np.dot(axis, axis), 0.0, 1.0))
+    left, right = feet.left.position, feet.right.position
+    ax, ay = float(left[0] - right[0]), float(left[1] - right[1])
+    dx, dy = float(zmp[0] - right[0]), float(zmp[1] - right[1])
+    share = min(1.0, max(0.0, (dx * ax + dy * ay) / (ax * ax + ay * ay)))
     return share, 1.0 - share
 
 
-def measured_com_state(measurement: Measurements | ComState | None) -> ComState | None:
-    """CoM state of a measurement: the measured one (:meth:`Measurements.com_state`), the
-    ComState itself, or None.
+def measured_com_state(state: EstimatedState | ComState | None) -> ComState | None:
+    """CoM state of what the controller is given: the estimated one
+    (:meth:`EstimatedState.com_state`), the ComState itself, or None.
 
     Raises:
-        ConfigurationError: Anything else (a simulation state: pass its ``measurements``).
+        ConfigurationError: Anything else (a simulation state: pass the estimator's output,
+            or its ``oracle`` for a comparison).
     """
-    if measurement is None or isinstance(measurement, ComState):
-        return measurement
-    if isinstance(measurement, Measurements):
-        return measurement.com_state()
+    if state is None or isinstance(state, ComState):
+        return state
+    if isinstance(state, EstimatedState):
+        return state.com_state()
     raise ConfigurationError(
-        "A measurement must be the robot's Measurements (a simulation state's "
-        f"`.measurements`), a ComState or None, got {type(measurement).__name__}."
+        "The controller steps on an EstimatedState (the estimator's output, or a simulation "
+        f"state's `.oracle` for a comparison), a ComState or None, got {type(state).__name__}."
     )
 
 
@@ -188,17 +193,21 @@ class DcmFeedback:
     def observe(
         self,
         measured: ComState,
-        sensors: Measurements | None,
+        state: EstimatedState | None,
         references: ControlOutput,
         t: float,
+        com_offset: np.ndarray | None = None,
     ) -> tuple[ComState, np.ndarray]:
-        """Generator input and DCM error [m] of a measurement at ``t`` [s] against the
-        references of that time (the controller's last output): the measured CoM anchored to
-        the measured soles when ``sensors`` has them (weighted by :func:`support_weights` of
-        the desired ZMP), then :meth:`compare`."""
-        if sensors is not None:
+        """Generator input and DCM error [m] of an estimate at ``t`` [s] against the
+        references of that time (the controller's last output): the estimated CoM anchored to
+        the estimated soles when ``state`` is given (weighted by :func:`support_weights` of
+        the desired ZMP), plus ``com_offset`` [m] (the robot's CoM from the model's, shape
+        (2,)), then :meth:`compare`."""
+        if state is not None:
             weights = support_weights(references.zmp_command, references.feet)
-            measured = self.anchor(measured, sensors.sole_positions, sensors.sole_yaws, t, weights)
+            measured = self.anchor(measured, state.sole_positions, state.sole_yaws, t, weights)
+        if com_offset is not None and np.any(com_offset):
+            measured = ComState(measured.position + com_offset, measured.velocity)
         return self.compare(measured, references.generator)
 
     def compare(
@@ -223,11 +232,24 @@ class DcmFeedback:
         shift = -(self.omega**2) * np.array([zmp_shift[0], zmp_shift[1], 0.0])
         return rotation.T @ shift
 
-    def desired_zmp(self, t: float, zmp: np.ndarray, dcm_error: np.ndarray | None) -> np.ndarray:
-        """The generator's ZMP at ``t`` plus the DCM feedback, inside the support polygon."""
-        if dcm_error is None or not np.any(dcm_error):
-            return np.array(zmp, dtype=float)
-        return self.clamp(t, zmp + self.dcm_gain * dcm_error)
+    def desired_zmp(
+        self,
+        t: float,
+        zmp: np.ndarray,
+        dcm_error: np.ndarray | None,
+        shift: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """The generator's ZMP at ``t`` plus the DCM feedback (plus ``shift`` [m], the
+        balance stabilizer's integral term), inside the support polygon."""
+        desired = np.array(zmp, dtype=float)
+        moved = False
+        if dcm_error is not None and np.any(dcm_error):
+            desired += self.dcm_gain * np.asarray(dcm_error)
+            moved = True
+        if shift is not None and np.any(shift):
+            desired += shift
+            moved = True
+        return self.clamp(t, desired) if moved else desired
 
     def clamp(self, t: float, zmp: np.ndarray) -> np.ndarray:
         """``zmp`` moved inside the planned support polygon at ``t``, ``zmp_margin`` from its

@@ -1,8 +1,8 @@
 """Robots: one description loaded into Pinocchio and MuJoCo, its preset and its sensors.
 
 :func:`load_robot` builds a :class:`Robot` from its preset (:class:`RobotPreset`, with the
-walking defaults of its ``[gait]`` table); :class:`Measurements` is what a controller reads
-of it each tick. Importing this package loads no MuJoCo: :func:`load_robot` and
+walking defaults of its ``[gait]`` table); :class:`SensorReadings` are what its sensors report
+each tick. Importing this package loads no MuJoCo: :func:`load_robot` and
 :func:`robot_names` import the loader on first use.
 """
 
@@ -10,7 +10,7 @@ from typing import Any
 
 from mpcwalk.robot.preset import ActuatorGains, RobotPreset
 from mpcwalk.robot.robot import Robot, ServoGains
-from mpcwalk.robot.sensors import FootContact, ImuReading, Measurements
+from mpcwalk.robot.sensors import FootContact, ForceTorqueReading, ImuReading, SensorReadings
 
 _LAZY = {"load_robot", "robot_names"}
 
@@ -30,10 +30,11 @@ def __dir__() -> list[str]:
 __all__ = [
     "ActuatorGains",
     "FootContact",
+    "ForceTorqueReading",
     "ImuReading",
-    "Measurements",
     "Robot",
     "RobotPreset",
+    "SensorReadings",
     "ServoGains",
     "load_robot",
     "robot_names",

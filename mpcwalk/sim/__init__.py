@@ -1,17 +1,22 @@
-"""MuJoCo simulation: position-controlled robot, sensors, measured CoP, pushes, falls, video."""
+"""MuJoCo simulation: position-controlled robot, sensors with noise and latency, perturbed
+worlds, ground truth, pushes, falls, video."""
 
-from mpcwalk.robot.sensors import FootContact, ImuReading, Measurements
+from mpcwalk.robot.sensors import FootContact, ForceTorqueReading, ImuReading, SensorReadings
 from mpcwalk.sim.contacts import ContactEstimator
 from mpcwalk.sim.disturbances import BASE, TORSO, ExternalForce, PushFormatError, parse_push
 from mpcwalk.sim.fall_detection import FallDetector, FallStatus
+from mpcwalk.sim.ground_truth import GroundTruth
 from mpcwalk.sim.measurements import SimState, quaternion_to_rpy
+from mpcwalk.sim.perturbation import Perturbation, trunk_body
 from mpcwalk.sim.rendering import (
     RenderingUnavailable,
     VideoDependencyMissing,
     VideoRecorder,
     gl_backend,
 )
-from mpcwalk.sim.simulation import SensorNoise, Simulation, SimulationUnstable, make_mj_data
+from mpcwalk.sim.sensor_model import SensorModel
+from mpcwalk.sim.sensor_simulator import SensorSimulator
+from mpcwalk.sim.simulation import Simulation, SimulationUnstable, make_mj_data
 
 __all__ = [
     "BASE",
@@ -21,11 +26,15 @@ __all__ = [
     "FallDetector",
     "FallStatus",
     "FootContact",
+    "ForceTorqueReading",
+    "GroundTruth",
     "ImuReading",
-    "Measurements",
+    "Perturbation",
     "PushFormatError",
     "RenderingUnavailable",
-    "SensorNoise",
+    "SensorModel",
+    "SensorReadings",
+    "SensorSimulator",
     "SimState",
     "Simulation",
     "SimulationUnstable",
@@ -35,4 +44,5 @@ __all__ = [
     "make_mj_data",
     "parse_push",
     "quaternion_to_rpy",
+    "trunk_body",
 ]

@@ -1,4 +1,4 @@
-"""Foot contact wrenches and the measured centre of pressure from MuJoCo contacts."""
+"""Foot contact wrenches and the centre of pressure from MuJoCo contacts (ground truth)."""
 
 from collections.abc import Sequence
 
@@ -10,6 +10,10 @@ from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.sensors import FootContact
 
 _NAN3 = frozen_array([np.nan, np.nan, np.nan])
+_SIDES = np.arange(2)[:, None]
+_EDGES = np.arange(4)
+_CROSS_A = np.array([1, 2, 0])  # (a x b)_i = a_j b_k - a_k b_j for (i, j, k) cyclic
+_CROSS_B = np.array([2, 0, 1])
 
 
 def _subtree_bodies(model: mujoco.MjModel, root: int) -> list[int]:
@@ -25,9 +29,11 @@ def _subtree_bodies(model: mujoco.MjModel, root: int) -> list[int]:
 class ContactEstimator:
     """Sums the MuJoCo contact forces on each sole and computes the CoP (paper M eq. 31).
 
-    The contact forces come from ``mj_contactForce`` (the constraint solver's answer) at the
-    contact points of the colliding geoms of each foot (the sole boxes), rotated from the
-    contact frame to the world frame. The CoP of a set of points is
+    The contact forces are the constraint solver's answer (``efc_force``, decoded as
+    ``mj_contactForce`` does, for all contacts at once) at the contact points of the colliding
+    geoms of each foot (the sole boxes), rotated from the contact frame to the world frame.
+    This is the simulator's ground truth: the robot's foot force/torque sensors read the same
+    wrenches in the sole frame, with their noise. The CoP of a set of points is
     ``p = sum_i p_i f_z,i / sum_i f_z,i`` with ``f_z,i`` the vertical force at point ``p_i``.
 
     Args:
@@ -66,6 +72,9 @@ class ContactEstimator:
                     "description needs a sole box with contype/conaffinity set."
                 )
             self._foot_of_geom[geoms] = foot
+        self._site_list = list(self.site_ids)
+        self._pyramidal = bool(mujoco.mj_isPyramidal(model))
+        self._moments: bool | None = None
 
     def measure(
         self, model: mujoco.MjModel, data: mujoco.MjData
@@ -77,36 +86,32 @@ class ContactEstimator:
             contact points of both feet (shape (3,), NaN without contact) and whether it is
             defined.
         """
-        contacts = data.contact
-        ncon = data.ncon
-        geoms = np.asarray(contacts.geom, dtype=int).reshape(-1, 2)[:ncon]
-        foot1, foot2 = self._foot_of_geom[geoms[:, 0]], self._foot_of_geom[geoms[:, 1]]
-        active = np.asarray(contacts.efc_address)[:ncon] >= 0
-        active &= np.asarray(contacts.exclude)[:ncon] == 0
-        index = np.flatnonzero(active & ((foot1 >= 0) | (foot2 >= 0)))
-        foot = np.where(foot2 >= 0, foot2, foot1)[index]
-        sign = np.where(foot2 >= 0, 1.0, -1.0)[index]  # the force on geom2 is along +normal
-        wrenches = np.zeros((len(index), 6))
-        for row, i in enumerate(index):
-            mujoco.mj_contactForce(model, data, int(i), wrenches[row])
-        frames = np.asarray(contacts.frame).reshape(-1, 3, 3)[index]  # rows: normal, tangents
-        world = sign[:, None, None] * np.einsum("nji,nkj->nki", frames, wrenches.reshape(-1, 2, 3))
-        forces, moments = world[:, 0], world[:, 1]  # moments: torsional/rolling (condim > 3)
-        points = np.asarray(contacts.pos).reshape(-1, 3)[index]
-        levers = points - data.site_xpos[list(self.site_ids)][foot]
-        moments = moments + np.stack(
-            [  # lever x force (np.cross is slow on small arrays)
-                levers[:, 1] * forces[:, 2] - levers[:, 2] * forces[:, 1],
-                levers[:, 2] * forces[:, 0] - levers[:, 0] * forces[:, 2],
-                levers[:, 0] * forces[:, 1] - levers[:, 1] * forces[:, 0],
-            ],
-            axis=1,
-        )
-        selector = (foot[None, :] == np.arange(2)[:, None]).astype(float)  # (2, n)
+        contacts, ncon = data.contact, data.ncon
+        feet_of = self._foot_of_geom[contacts.geom[:ncon]]  # (ncon, 2): foot of each geom
+        active = (contacts.efc_address[:ncon] >= 0) & (contacts.exclude[:ncon] == 0)
+        index = np.flatnonzero(active & (feet_of.max(axis=1) >= 0))
+        feet_of = feet_of[index]
+        on_geom2 = feet_of[:, 1] >= 0  # the force on geom2 is along +normal
+        foot = np.where(on_geom2, feet_of[:, 1], feet_of[:, 0])
+        wrenches = self._contact_wrenches(model, data, index)  # contact frames
+        sign = np.where(on_geom2, 1.0, -1.0)
+        frames = contacts.frame[index].reshape(-1, 3, 3)  # rows: normal, tangents
+        forces = sign[:, None] * np.einsum("nk,nkj->nj", wrenches[:, :3], frames)
+        points = contacts.pos[index]
+        selector = (foot == _SIDES).astype(float)  # (2, n)
         force_sums = selector @ forces
-        torque_sums = selector @ moments
-        weighted = selector @ (forces[:, 2:3] * points)  # sum_i f_z,i p_i per foot
-        counts = selector.sum(axis=1).astype(int)
+        # sum_i (p_i - o) f_i^T per foot (o: sole origin): its skew part is the moment
+        # about o, its last column sum_i f_z,i (p_i - o) gives the CoP
+        origins = data.site_xpos[self._site_list]
+        products = (selector @ (points[:, :, None] * forces[:, None, :]).reshape(-1, 9)).reshape(
+            2, 3, 3
+        ) - origins[:, :, None] * force_sums[:, None, :]
+        torque_sums = products[:, _CROSS_A, _CROSS_B] - products[:, _CROSS_B, _CROSS_A]
+        if self._moments is not None:  # torsional/rolling moments of condim > 3 contacts
+            torque_sums += selector @ (
+                sign[:, None] * np.einsum("nk,nkj->nj", wrenches[:, 3:], frames)
+            )
+        weighted = products[:, :, 2] + origins * force_sums[:, 2:3]  # sum_i f_z,i p_i
         feet = []
         for side in range(2):
             cop, in_contact = self._cop(weighted[side], force_sums[side, 2])
@@ -116,11 +121,39 @@ class ContactEstimator:
                     torque=frozen_array(torque_sums[side]),
                     cop=cop,
                     in_contact=in_contact,
-                    nb_points=int(counts[side]),
                 )
             )
         cop, has_cop = self._cop(weighted.sum(axis=0), force_sums[:, 2].sum())
         return feet[0], feet[1], cop, has_cop
+
+    def _contact_wrenches(
+        self, model: mujoco.MjModel, data: mujoco.MjData, index: np.ndarray
+    ) -> np.ndarray:
+        """Wrenches of the contacts ``index`` in their contact frames, shape (n, 6): what
+        ``mj_contactForce`` gives, decoded from ``efc_force`` for all of them at once.
+
+        Three-dimensional contacts (normal and two frictional directions, the feet's) are
+        decoded in one go: a pyramidal cone's four edge forces ``f`` give the normal force
+        ``sum f`` and the frictional ones ``mu_i (f_2i - f_2i+1)`` (``mju_decodePyramid``);
+        an elliptic cone's rows are the forces. Others go through ``mj_contactForce``.
+        """
+        contacts = data.contact
+        wrenches = np.zeros((len(index), 6))
+        three = contacts.dim[index] == 3
+        rows = contacts.efc_address[index[three]]
+        if self._pyramidal:
+            edges = data.efc_force[rows[:, None] + _EDGES]
+            wrenches[three, 0] = edges.sum(axis=1)
+            wrenches[three, 1:3] = contacts.friction[index[three], :2] * (
+                edges[:, 0::2] - edges[:, 1::2]
+            )
+        else:
+            wrenches[three, :3] = data.efc_force[rows[:, None] + _EDGES[:3]]
+        others = np.flatnonzero(~three)
+        for row in others:
+            mujoco.mj_contactForce(model, data, int(index[row]), wrenches[row])
+        self._moments = True if len(others) else None
+        return wrenches
 
     def _cop(self, weighted_points: np.ndarray, vertical_force: float) -> tuple[np.ndarray, bool]:
         """CoP ``sum_i f_z,i p_i / sum_i f_z,i`` (eq. 31) given both sums; NaN without contact."""

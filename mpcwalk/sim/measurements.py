@@ -1,10 +1,11 @@
-"""What the simulation reports each tick: ground-truth state and the sensor readings.
+"""What the simulation reports each tick: ground truth, sensor readings and the oracle.
 
-The readings a controller may use (:class:`~mpcwalk.robot.sensors.Measurements`, with its
-:class:`~mpcwalk.robot.sensors.ImuReading` and :class:`~mpcwalk.robot.sensors.FootContact`)
-are typed below the controller, in :mod:`mpcwalk.robot.sensors`; the simulation fills them
-in. The ground truth (:class:`SimState`: configuration, velocity, base pose) is for the
-metrics, never for the feedback.
+A :class:`SimState` carries the simulator's ground truth (configuration, velocity, base and
+sole poses: for the metrics and the fall detector), what the robot senses
+(:class:`~mpcwalk.robot.sensors.SensorReadings`, with the noise, bias, quantisation and
+latency of the sensor model) and the ground truth in the type the controller receives
+(:class:`~mpcwalk.estimation.estimated_state.EstimatedState`, ``source="oracle"``), for the
+explicit ``state="oracle"`` comparison only.
 
 All arrays are read-only copies: a :class:`SimState` is a snapshot that later steps of the
 simulation never change.
@@ -15,7 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mpcwalk.robot.sensors import FootContact, ImuReading, Measurements
+from mpcwalk.estimation.estimated_state import EstimatedState
+from mpcwalk.robot.sensors import SensorReadings
 
 
 def quaternion_to_rpy(quaternion_wxyz: np.ndarray) -> tuple[float, float, float]:
@@ -40,8 +42,12 @@ class SimState:
         base_rotation: Floating-base orientation in the world, shape (3, 3).
         sole_positions: Left and right sole frame origins, shape (2, 3), in [m].
         sole_rotations: Left and right sole frame orientations, shape (2, 3, 3).
-        measurements: Sensor readings, contacts, CoP, CoM and soles: what a controller
-            may read (:meth:`mpcwalk.control.controller.WalkingController.step`).
+        sensors: What the robot's sensors report at this tick (IMU, encoders, foot
+            force/torque sensors), taken ``latency`` control periods earlier, with the
+            sensor model's noise, bias and quantisation: the estimator's input.
+        oracle: The ground truth as the controller's state type (``source="oracle"``, its
+            ``sensors`` the exact readings of this time): for the metrics, or for the
+            controller behind an explicit ``state="oracle"``.
     """
 
     time: float
@@ -51,7 +57,8 @@ class SimState:
     base_rotation: np.ndarray
     sole_positions: np.ndarray
     sole_rotations: np.ndarray
-    measurements: Measurements
+    sensors: SensorReadings
+    oracle: EstimatedState
 
     @property
     def base_tilt(self) -> float:
@@ -64,4 +71,4 @@ class SimState:
         return np.arctan2(self.sole_rotations[:, 1, 0], self.sole_rotations[:, 0, 0])
 
 
-__all__ = ["FootContact", "ImuReading", "Measurements", "SimState", "quaternion_to_rpy"]
+__all__ = ["SimState", "quaternion_to_rpy"]

@@ -1,20 +1,28 @@
-"""MuJoCo simulation of one robot: position servos, sensors, contacts, CoP, pushes."""
+"""MuJoCo simulation of one robot: position servos, sensors, contacts, CoP, pushes.
+
+Each control period the simulation reports its ground truth and what the robot senses: the
+readings of its IMU, joint encoders and foot force/torque sensors with the noise, bias,
+quantisation and latency of a :class:`~mpcwalk.sim.sensor_model.SensorModel` (the robot's own
+by default). A :class:`~mpcwalk.sim.perturbation.Perturbation` makes the simulated robot
+differ from the model the controller uses.
+"""
 
 import copy
 import math
 from collections.abc import Iterable
-from dataclasses import dataclass
 
 import mujoco
 import numpy as np
 
-from mpcwalk._checks import frozen_array
 from mpcwalk.exceptions import ConfigurationError, MpcwalkError
 from mpcwalk.robot.robot import Robot
-from mpcwalk.robot.sensors import ImuReading, Measurements
 from mpcwalk.sim.contacts import ContactEstimator
 from mpcwalk.sim.disturbances import ExternalForce, resolve_body
-from mpcwalk.sim.measurements import SimState, quaternion_to_rpy
+from mpcwalk.sim.ground_truth import GroundTruth
+from mpcwalk.sim.measurements import SimState
+from mpcwalk.sim.perturbation import Perturbation, trunk_body
+from mpcwalk.sim.sensor_model import SensorModel
+from mpcwalk.sim.sensor_simulator import SensorSimulator
 
 _UNSTABLE_WARNINGS = (
     mujoco.mjtWarning.mjWARN_BADQACC,
@@ -46,38 +54,29 @@ def make_mj_data(robot: Robot, q: np.ndarray | None = None) -> mujoco.MjData:
     return mj_data
 
 
-@dataclass(frozen=True)
-class SensorNoise:
-    """Standard deviations of the zero-mean Gaussian noise added to the sensor readings.
-
-    Attributes:
-        gyro_std: Gyroscope noise [rad/s].
-        accelerometer_std: Accelerometer noise [m/s^2].
-        encoder_std: Joint encoder noise [rad].
-    """
-
-    gyro_std: float = 0.0
-    accelerometer_std: float = 0.0
-    encoder_std: float = 0.0
-
-
 class Simulation:
     """One robot on a flat floor in MuJoCo, driven by position actuators.
 
-    The simulation owns a copy of ``robot.mj_model`` (changing its time step leaves the
-    robot's model alone). Each :meth:`step` holds the joint targets during one control period
-    of ``control_period / timestep`` physics steps and applies the external forces active at
-    each physics step.
+    The simulation owns a copy of ``robot.mj_model`` (changing its time step or perturbing it
+    leaves the robot's model alone). Each :meth:`step` holds the joint targets during one
+    control period of ``control_period / timestep`` physics steps and applies the external
+    forces active at each physics step; the state it returns carries the ground truth, the
+    sensor readings (delayed by the latency) and the oracle.
 
     Args:
         robot: The robot (from :func:`mpcwalk.robot.load_robot`).
         timestep: Physics time step [s]; None keeps the robot's.
         control_period: Duration of one :meth:`step` [s], a multiple of ``timestep``.
-        seed: Seed of the sensor-noise generator.
+        seed: Seed of the sensor noise and biases (same seed, same readings; None: fresh
+            entropy).
         disturbances: External forces applied during their windows.
-        sensor_noise: Noise added to the IMU and encoder readings (none by default).
-        contact_threshold: Vertical force [N] above which a foot is in contact; None for 1 %
-            of the robot's weight.
+        sensors: Sensor model (noise, bias, quantisation, latency in control periods);
+            None for the robot's (:meth:`SensorModel.for_robot`), ``SensorModel.ideal()``
+            for exact, immediate readings.
+        perturbation: How the simulated robot differs from ``robot`` (trunk mass and CoM,
+            friction, servo strength); None for no difference.
+        contact_threshold: Vertical force [N] above which a foot is in contact in the ground
+            truth; None for 1 % of the simulated robot's weight.
 
     Raises:
         ConfigurationError: Non-positive periods, or a control period that is not a
@@ -92,7 +91,8 @@ class Simulation:
         control_period: float = 0.01,
         seed: int | None = None,
         disturbances: Iterable[ExternalForce] = (),
-        sensor_noise: SensorNoise = SensorNoise(),
+        sensors: SensorModel | None = None,
+        perturbation: Perturbation | None = None,
         contact_threshold: float | None = None,
     ) -> None:
         self.robot = robot
@@ -112,23 +112,26 @@ class Simulation:
             )
         self.control_period = float(control_period)
         self.nb_substeps = int(nb_substeps)
+        self.perturbation = Perturbation() if perturbation is None else perturbation
+        self.trunk_body = trunk_body(self.model, robot.torso_frame)
+        self.perturbation.apply(self.model, trunk=self.trunk_body)
         self.data = mujoco.MjData(self.model)
-        self.rng = np.random.default_rng(seed)
-        self.sensor_noise = sensor_noise
-        weight = robot.total_mass * float(np.linalg.norm(self.model.opt.gravity))
-        self.contacts = ContactEstimator(
+        self.sensor_model = SensorModel.for_robot(robot) if sensors is None else sensors
+        self.sensors = SensorSimulator(
+            self.sensor_model,
+            period=self.control_period,
+            nb_joints=len(robot.joint_names),
+            seed=seed,
+        )
+        mass = float(self.model.body_mass.sum())
+        weight = mass * float(np.linalg.norm(self.model.opt.gravity))
+        self.ground_truth = GroundTruth(
+            robot,
             self.model,
-            robot.foot_frames,
             contact_threshold=0.01 * weight if contact_threshold is None else contact_threshold,
         )
-        self.root_body = int(self.model.jnt_bodyid[0])
-        self._sensor = {
-            name: slice(
-                self.model.sensor(name).adr[0],
-                self.model.sensor(name).adr[0] + self.model.sensor(name).dim[0],
-            )
-            for name in ("imu_gyro", "imu_accelerometer", "imu_orientation")
-        }
+        self.contacts: ContactEstimator = self.ground_truth.contacts
+        self.root_body = self.ground_truth.root_body
         self._disturbances: list[tuple[ExternalForce, int]] = []
         for disturbance in disturbances:
             self.add_disturbance(disturbance)
@@ -186,8 +189,9 @@ class Simulation:
             self._check_stable(-settle)
         self.data.time = 0.0
         self._substep = 0
-        self._state = None
-        return self.state()
+        self.ground_truth.imu_mean = None  # at rest: the instantaneous readings
+        self._state = self._compute_state(first=True)
+        return self._state
 
     def step(self, joint_targets: np.ndarray | None = None) -> SimState:
         """Simulate one control period holding the joint targets.
@@ -207,11 +211,9 @@ class Simulation:
         """
         if joint_targets is not None:
             self.data.ctrl[:] = self._ctrl_of(joint_targets)
-        if not self._disturbances:
-            mujoco.mj_step(self.model, self.data, self.nb_substeps)
-            self._substep += self.nb_substeps
-        else:
-            for _ in range(self.nb_substeps):
+        imu_sum = np.zeros(6)  # the IMU reports its readings averaged over the period
+        for _ in range(self.nb_substeps):
+            if self._disturbances:
                 self.data.xfrc_applied[:] = 0.0
                 active = [(f, body) for f, body in self._disturbances if f.is_active(self.time)]
                 if any(force.point is not None for force, _ in active):
@@ -219,14 +221,16 @@ class Simulation:
                     mujoco.mj_comPos(self.model, self.data)
                 for force, body_id in active:
                     force.apply(self.data, body_id)
-                mujoco.mj_step(self.model, self.data)
-                self._substep += 1
+            mujoco.mj_step(self.model, self.data)
+            imu_sum += self.ground_truth.imu_now(self.data)
+            self._substep += 1
+        self.ground_truth.imu_mean = imu_sum / self.nb_substeps
         self._check_stable(self.time)
         self._state = None
         return self.state()
 
     def state(self) -> SimState:
-        """Snapshot of the current state, measurements computed at the current positions."""
+        """Snapshot of the current state (computed once per control period)."""
         if self._state is None:
             self._state = self._compute_state()
         return self._state
@@ -256,57 +260,19 @@ class Simulation:
         if any(warnings[w].number > 0 for w in _UNSTABLE_WARNINGS):
             raise SimulationUnstable(time, self.timestep)
 
-    def _compute_state(self) -> SimState:
-        model, data, robot = self.model, self.data, self.robot
-        mujoco.mj_forward(model, data)  # kinematics, contact forces, sensors at current qpos
-        mujoco.mj_subtreeVel(model, data)
-        q = robot.qpos_to_q(data.qpos)
-        v = robot.qvel_to_v(data.qpos, data.qvel)
-        noise, rng = self.sensor_noise, self.rng
-        gyro = data.sensordata[self._sensor["imu_gyro"]].copy()
-        accelerometer = data.sensordata[self._sensor["imu_accelerometer"]].copy()
-        quaternion = data.sensordata[self._sensor["imu_orientation"]].copy()
-        encoders = q[7:].copy()
-        if noise.gyro_std > 0.0:
-            gyro += rng.normal(0.0, noise.gyro_std, 3)
-        if noise.accelerometer_std > 0.0:
-            accelerometer += rng.normal(0.0, noise.accelerometer_std, 3)
-        if noise.encoder_std > 0.0:
-            encoders += rng.normal(0.0, noise.encoder_std, encoders.shape)
-        quaternion /= np.linalg.norm(quaternion)
-        roll, pitch, yaw = quaternion_to_rpy(quaternion)
-        imu = ImuReading(
-            gyro=frozen_array(gyro),
-            accelerometer=frozen_array(accelerometer),
-            quaternion=frozen_array(quaternion),
-            roll=roll,
-            pitch=pitch,
-            yaw=yaw,
-        )
-        left, right, cop, has_cop = self.contacts.measure(model, data)
-        sites = list(self.contacts.site_ids)
-        sole_positions = frozen_array(data.site_xpos[sites])
-        sole_rotations = frozen_array(data.site_xmat[sites], (2, 3, 3))
-        measurements = Measurements(
-            imu=imu,
-            left_foot=left,
-            right_foot=right,
-            cop=cop,
-            has_cop=has_cop,
-            com=frozen_array(data.subtree_com[self.root_body]),
-            com_velocity=frozen_array(data.subtree_linvel[self.root_body]),
-            joint_positions=frozen_array(encoders),
-            joint_velocities=frozen_array(v[6:]),
-            sole_positions=sole_positions,
-            sole_rotations=sole_rotations,
-        )
+    def _compute_state(self, *, first: bool = False) -> SimState:
+        """Ground truth at the current positions; the sensors take their readings (the
+        first of a walk restarts them)."""
+        oracle = self.ground_truth.read(self.model, self.data, self.time)
+        sensors = (self.sensors.reset if first else self.sensors.read)(oracle.sensors)
         return SimState(
             time=self.time,
-            q=frozen_array(q),
-            v=frozen_array(v),
-            base_position=frozen_array(data.xpos[self.root_body]),
-            base_rotation=frozen_array(data.xmat[self.root_body], (3, 3)),
-            sole_positions=sole_positions,
-            sole_rotations=sole_rotations,
-            measurements=measurements,
+            q=oracle.q,
+            v=oracle.v,
+            base_position=oracle.base_position,
+            base_rotation=oracle.base_rotation,
+            sole_positions=oracle.sole_positions,
+            sole_rotations=oracle.sole_rotations,
+            sensors=sensors,
+            oracle=oracle,
         )

@@ -3,7 +3,8 @@
 ``mpcwalk walk`` simulates one walk and writes into ``--out``: ``metrics.json``, the per-tick
 log (``walk_log.npz``, or ``.csv`` with ``--log-format csv``), ``top_view.png`` (footsteps,
 landed soles, CoM and measured CoP from above), ``com_cop.png`` (CoM, ZMP reference and
-measured CoP over time) and, with ``--video``, ``walk.mp4``.
+measured CoP over time), ``estimator.png`` (the estimated state against the ground truth,
+when the controller walked on the estimator) and, with ``--video``, ``walk.mp4``.
 """
 
 import argparse
@@ -15,6 +16,7 @@ import numpy as np
 
 from mpcwalk.control.stabilizers import STABILIZER_NAMES
 from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.walking.world_arguments import add_world_arguments, world_options
 
 if TYPE_CHECKING:
     from mpcwalk.walking.result import WalkResult
@@ -103,7 +105,7 @@ def add_walk_parser(sub) -> argparse.ArgumentParser:
         dest="reaim",
         action="store_true",
         default=None,
-        help="paper A's state machine: re-aim each step from the measured support "
+        help="paper A's state machine: re-aim each step from the estimated support "
         "foot (drift does not accumulate); default: on with --path",
     )
     p.add_argument(
@@ -122,7 +124,7 @@ def add_walk_parser(sub) -> argparse.ArgumentParser:
     p.add_argument(
         "--no-feedback",
         action="store_true",
-        help="open loop: no measured CoM to the generator, no DCM feedback",
+        help="open loop: no estimated CoM to the generator, no DCM feedback, no balance stabilizer",
     )
     p.add_argument(
         "--push",
@@ -131,6 +133,7 @@ def add_walk_parser(sub) -> argparse.ArgumentParser:
         metavar="T,DURATION,FX,FY,FZ",
         help="push the torso: start [s], duration [s], world force [N]; repeatable",
     )
+    add_world_arguments(p)
     p.add_argument("--video", action="store_true", help="render walk.mp4 (offscreen)")
     p.add_argument(
         "--log-format", choices=("npz", "csv"), default="npz", help="format of the per-tick log"
@@ -146,7 +149,7 @@ def add_walk_parser(sub) -> argparse.ArgumentParser:
 def run_walk_command(args) -> int:
     """Run ``mpcwalk walk``; bad input raises an MpcwalkError (exit code 2 in ``main``)."""
     from mpcwalk.sim import parse_push
-    from mpcwalk.walking.figures import plot_walk_over_time, plot_walk_top_view
+    from mpcwalk.walking.figures import plot_estimator, plot_walk_over_time, plot_walk_top_view
     from mpcwalk.walking.runner import run_walk
 
     velocity = (args.vx, args.vy, args.vyaw)
@@ -168,6 +171,7 @@ def run_walk_command(args) -> int:
         if all(v is None for v in velocity):
             command = (0.1, 0.0, 0.0)
     pushes = [parse_push(text) for text in args.push]
+    world = world_options(args)
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
     result = run_walk(
@@ -190,6 +194,7 @@ def run_walk_command(args) -> int:
         controller_options={"swing_profile": _swing_profile(args)},
         arm_swing=args.arm_swing,
         yaw_reference=bool(pushes),
+        **world,
     )
     written = [out / "metrics.json"]
     (out / "metrics.json").write_text(json.dumps(result.to_dict(), indent=2) + "\n")
@@ -199,10 +204,10 @@ def run_walk_command(args) -> int:
     if len(result.log):
         import matplotlib.pyplot as plt
 
-        for name, plot in (
-            ("top_view.png", plot_walk_top_view),
-            ("com_cop.png", plot_walk_over_time),
-        ):
+        plots = [("top_view.png", plot_walk_top_view), ("com_cop.png", plot_walk_over_time)]
+        if result.config.state_source == "estimator":
+            plots.append(("estimator.png", plot_estimator))
+        for name, plot in plots:
             figure = plot(result.schedule, result.log, title=title)
             figure.savefig(out / name, dpi=120)
             written.append(out / name)
@@ -271,8 +276,30 @@ def summary(result: "WalkResult") -> str:
         f"{m.distance_m:.3f} m (planned {m.distance_planned_m:.3f} m), yaw "
         f"{m.yaw_change_deg:.1f} deg, foot error {_format(m.foot_position_error_cm_mean, ' cm')} "
         f"mean, CoP margin min {format_length(m.cop_margin_min_m)}, real time "
-        f"x{_format(m.real_time_factor)}"
+        f"x{_format(m.real_time_factor)}\n{_sensing(result)}"
     )
+
+
+def _sensing(result: "WalkResult") -> str:
+    """One line on what the controller read and how well it knew the robot."""
+    m, config = result.metrics, result.config
+    sensors = "ideal sensors" if config.ideal_sensors else f"noise x{config.noise_scale:g}"
+    text = f"state: {config.state_source} ({sensors}, latency {1e3 * config.latency_s:g} ms)"
+    changed = {
+        key: value
+        for key, value in config.perturbation.items()
+        if value not in (None, 1.0, [0.0, 0.0], (0.0, 0.0))
+    }
+    if changed:
+        text += "; world: " + ", ".join(f"{key} {value}" for key, value in changed.items())
+    if m.estimator_com_error_rms_m is not None:
+        text += (
+            f"; estimator CoM error RMS {format_length(m.estimator_com_error_rms_m)}, "
+            f"max {format_length(m.estimator_com_error_max_m)} (relative to the support "
+            f"{format_length(m.estimator_com_error_support_rms_m)}), yaw drift "
+            f"{_format(m.estimator_yaw_drift_deg, ' deg')}"
+        )
+    return text
 
 
 def add_robots_parser(sub) -> argparse.ArgumentParser:

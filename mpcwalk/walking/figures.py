@@ -196,3 +196,36 @@ def plot_walk_over_time(schedule: ContactSchedule, log: WalkLog, *, title: str =
         )
     fig.axes[0].legend(loc="best", fontsize=8)
     return fig
+
+
+def plot_estimator(schedule: ContactSchedule, log: WalkLog, *, title: str = ""):
+    """The state the controller received against the ground truth, over time: CoM x and y
+    (true and estimated, each estimate at the time of the readings it came from), the CoM
+    error [mm] and the base yaw error [deg]."""
+    plt = _pyplot()
+    fig, axes = plt.subplots(4, 1, figsize=(10, 9), sharex=True, layout="constrained")
+    times = log.estimate_time
+    for axis, ax in enumerate(axes[:2]):
+        ax.plot(log.time, log.com[:, axis], color="k", lw=1.2, label="CoM (true)")
+        ax.plot(times, log.estimated_com[:, axis], "--", color="tab:orange", lw=1.0)
+        ax.lines[-1].set_label("CoM (estimated)")
+        ax.set_ylabel(f"CoM {'xy'[axis]} [m]")
+        ax.grid(alpha=0.3)
+    axes[0].legend(loc="best", fontsize=8)
+    truth = np.column_stack([np.interp(times, log.time, log.com[:, k]) for k in range(3)])
+    error = 1e3 * np.linalg.norm(log.estimated_com - truth, axis=1)
+    axes[2].plot(times, error, color="tab:red", lw=0.8)
+    axes[2].set_ylabel("CoM error [mm]")
+    axes[2].grid(alpha=0.3)
+    true_yaw = np.interp(times, log.time, np.unwrap(log.base_rpy[:, 2]))
+    yaw_error = np.angle(np.exp(1j * (log.estimated_base_rpy[:, 2] - true_yaw)))
+    axes[3].plot(times, np.degrees(yaw_error), color="tab:purple", lw=0.8)
+    axes[3].set_ylabel("yaw error [deg]")
+    axes[3].set_xlabel("time [s]")
+    axes[3].grid(alpha=0.3)
+    for ax in axes:
+        for phase_start in (schedule.walk_start, schedule.walk_end):
+            ax.axvline(phase_start, color="0.7", lw=0.6, ls=":")
+    if title:
+        fig.suptitle(title)
+    return fig

@@ -28,12 +28,22 @@ _EMPTY_SHAPES = {
     "sole_yaws": (0, 2),
     "feet_reference": (0, 2, 3),
     "base_rpy": (0, 3),
+    "estimate_time": (0,),
+    "estimated_com": (0, 3),
+    "estimated_com_velocity": (0, 3),
+    "estimated_base_rpy": (0, 3),
+    "estimated_contact": (0, 2),
+    "estimated_sole_positions": (0, 2, 3),
 }
 
 
 @dataclass(frozen=True)
 class WalkLog:
     """Per-tick log of a simulated walk (n ticks, world frame, SI units).
+
+    "Measured" is the simulator's ground truth (what a motion-capture system would measure),
+    for the metrics; "estimated" is what the controller received (the estimator's state, or
+    the ground truth itself behind ``state="oracle"``).
 
     Attributes:
         time: End of each tick [s], shape (n,).
@@ -45,12 +55,19 @@ class WalkLog:
         contact: Measured contact of the left and right soles, (n, 2) bool.
         sole_positions: Measured soles [m], (n, 2, 3). sole_yaws: [rad], (n, 2).
         feet_reference: Sole references of the gait [m], (n, 2, 3).
-        base_rpy: IMU roll, pitch, yaw [rad], (n, 3).
+        base_rpy: Base roll, pitch, yaw [rad], (n, 3).
+        estimate_time: Time of the sensor readings the state given to the controller at the
+            next tick was estimated from [s], (n,) (``time`` minus the latency).
+        estimated_com: Its CoM [m], (n, 3). estimated_com_velocity: [m/s], (n, 3).
+        estimated_base_rpy: Its base roll, pitch, yaw [rad], (n, 3).
+        estimated_contact: Its contacts of the left and right soles, (n, 2) bool.
+        estimated_sole_positions: Its soles [m], (n, 2, 3).
         joint_positions: Measured joints [rad], (n, nj). joint_targets: Servo targets, (n, nj).
         actuator_force: Servo torques [N m], (n, nu).
         ik_error: Largest CoM/sole position error of the IK [m], (n,).
         generator_failed: Generator reported a failed solve, (n,) bool.
-        generator_tick, ik_tick, controller_tick, mujoco_step: Wall times [s], (n,).
+        generator_tick, ik_tick, controller_tick, mujoco_step, estimator_tick: Wall times
+            [s], (n,) (the estimator's: 0 on the ground truth).
         joint_names: Joint names (``robot.joint_names``).
         torque_limit: Torque limit of each actuator [N m] (inf: none), (nu,).
     """
@@ -69,6 +86,12 @@ class WalkLog:
     sole_yaws: np.ndarray
     feet_reference: np.ndarray
     base_rpy: np.ndarray
+    estimate_time: np.ndarray
+    estimated_com: np.ndarray
+    estimated_com_velocity: np.ndarray
+    estimated_base_rpy: np.ndarray
+    estimated_contact: np.ndarray
+    estimated_sole_positions: np.ndarray
     joint_positions: np.ndarray
     joint_targets: np.ndarray
     actuator_force: np.ndarray
@@ -78,6 +101,7 @@ class WalkLog:
     ik_tick: np.ndarray
     controller_tick: np.ndarray
     mujoco_step: np.ndarray
+    estimator_tick: np.ndarray
     joint_names: tuple[str, ...]
     torque_limit: np.ndarray
 
@@ -113,7 +137,7 @@ class WalkLog:
 
     def csv_columns(self) -> dict[str, np.ndarray]:
         """Named columns of the CSV form of the log."""
-        columns = {"time": self.time}
+        columns = {"time": self.time, "estimate_time": self.estimate_time}
         for name, axes in (
             ("com", "xyz"),
             ("com_velocity", "xyz"),
@@ -123,16 +147,27 @@ class WalkLog:
             ("cop", "xy"),
             ("dcm_error", "xy"),
             ("base_rpy", ("roll", "pitch", "yaw")),
+            ("estimated_com", "xyz"),
+            ("estimated_com_velocity", "xyz"),
+            ("estimated_base_rpy", ("roll", "pitch", "yaw")),
         ):
             values = getattr(self, name)
             for i, axis in enumerate(axes):
                 columns[f"{name}_{axis}"] = values[:, i]
         for j, side in enumerate(("left", "right")):
             columns[f"{side}_contact"] = self.contact[:, j].astype(float)
+            columns[f"{side}_estimated_contact"] = self.estimated_contact[:, j].astype(float)
             for i, axis in enumerate("xyz"):
                 columns[f"{side}_sole_{axis}"] = self.sole_positions[:, j, i]
             columns[f"{side}_sole_yaw"] = self.sole_yaws[:, j]
-        for name in ("ik_error", "generator_tick", "ik_tick", "controller_tick", "mujoco_step"):
+        for name in (
+            "ik_error",
+            "generator_tick",
+            "ik_tick",
+            "controller_tick",
+            "mujoco_step",
+            "estimator_tick",
+        ):
             columns[name] = getattr(self, name)
         columns["generator_failed"] = self.generator_failed.astype(float)
         return columns
@@ -148,10 +183,19 @@ class WalkLogRecorder:
         }
 
     def append(
-        self, output, state, actuator_force, mujoco_step: float, controller_tick: float
+        self,
+        output,
+        state,
+        estimate,
+        actuator_force,
+        *,
+        mujoco_step: float,
+        controller_tick: float,
+        estimator_tick: float = 0.0,
     ) -> None:
-        """Record one tick: controller output, simulation state after the tick, wall times [s]."""
-        rows, m = self.rows, state.measurements
+        """Record one tick: controller output, simulation state after the tick (its ground
+        truth ``state.oracle``), the state estimated for the next tick, wall times [s]."""
+        rows, m = self.rows, state.oracle
         rows["time"].append(state.time)
         rows["com"].append(m.com)
         rows["com_velocity"].append(m.com_velocity)
@@ -162,10 +206,18 @@ class WalkLogRecorder:
         rows["dcm_error"].append(output.dcm_error)
         rows["cop"].append(m.cop)
         rows["contact"].append((m.left_foot.in_contact, m.right_foot.in_contact))
-        rows["sole_positions"].append(state.sole_positions)
-        rows["sole_yaws"].append(state.sole_yaws)
+        rows["sole_positions"].append(m.sole_positions)
+        rows["sole_yaws"].append(m.sole_yaws)
         rows["feet_reference"].append((output.feet.left.position, output.feet.right.position))
-        rows["base_rpy"].append((m.imu.roll, m.imu.pitch, m.imu.yaw))
+        rows["base_rpy"].append((m.roll, m.pitch, m.yaw))
+        rows["estimate_time"].append(estimate.time)
+        rows["estimated_com"].append(estimate.com)
+        rows["estimated_com_velocity"].append(estimate.com_velocity)
+        rows["estimated_base_rpy"].append((estimate.roll, estimate.pitch, estimate.yaw))
+        rows["estimated_contact"].append(
+            (estimate.left_foot.in_contact, estimate.right_foot.in_contact)
+        )
+        rows["estimated_sole_positions"].append(estimate.sole_positions)
         rows["joint_positions"].append(m.joint_positions)
         rows["joint_targets"].append(output.joint_targets)
         rows["actuator_force"].append(np.array(actuator_force))
@@ -175,6 +227,7 @@ class WalkLogRecorder:
         rows["ik_tick"].append(output.ik_tick)
         rows["controller_tick"].append(controller_tick)
         rows["mujoco_step"].append(mujoco_step)
+        rows["estimator_tick"].append(estimator_tick)
 
     def freeze(self) -> WalkLog:
         """The log so far."""
@@ -193,7 +246,7 @@ class WalkLogRecorder:
         }
         arrays = {}
         for name, values in self.rows.items():
-            dtype = bool if name in ("contact", "generator_failed") else float
+            dtype = bool if name in ("contact", "estimated_contact", "generator_failed") else float
             arrays[name] = frozen_array(
                 values if values else np.zeros(empty.get(name, (0,))), dtype=dtype
             )

@@ -18,6 +18,7 @@ from mpcwalk.footsteps.footstep import Side, wrap_angle
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.models.support_polygon import SupportPolygon, foot_rectangle
 from mpcwalk.sim import FallStatus
+from mpcwalk.walking.estimator_metrics import EstimatorAccuracy
 from mpcwalk.walking.log import WalkLog
 
 _SIDES = (Side.LEFT, Side.RIGHT)
@@ -64,6 +65,8 @@ class WalkMetrics:
         ik_tick_us_median: Median wall time of the IK per tick [us].
         controller_tick_us_median: Median wall time of the whole controller tick [us].
         mujoco_step_us_median: Median wall time of the physics per control period [us].
+        estimator_tick_us_median: Median wall time of the state estimator per tick [us]
+            (None when the controller read the ground truth).
         real_time_factor: Simulated time over the loop's wall time (one process).
         nb_ticks: Control ticks simulated.
         torque_saturation_share: Share of the ticks with a servo at its torque limit.
@@ -74,6 +77,15 @@ class WalkMetrics:
             excluded: from the end of the first step to the end of the one before the last
             (the closing step of a velocity command), or to the fall.
         yaw_rate_planned_deg_s: Rate of the footsteps' heading over the same steps [deg/s].
+        estimator_com_error_rms_m: Estimated CoM against the true one (3D) at the time of
+            the readings it came from, RMS over the ticks [m]; None when the controller read
+            the ground truth (:class:`~mpcwalk.walking.estimator_metrics.EstimatorAccuracy`).
+        estimator_com_error_max_m: Its largest value [m].
+        estimator_com_error_support_rms_m: Same for the CoM relative to the support (the
+            mean of the soles in contact), RMS [m]: free of the odometry's drift.
+        estimator_com_velocity_error_rms_m_s: Same for the CoM velocity, RMS [m/s].
+        estimator_yaw_drift_deg: Estimated minus true base yaw at the end of the walk, less
+            that at its start [deg].
         yaw_deviation_deg: After the last push, the largest IMU yaw difference with the same
             walk without the pushes [deg] (:func:`yaw_deviation_deg`; None without one).
     """
@@ -110,6 +122,7 @@ class WalkMetrics:
     ik_tick_us_median: float | None
     controller_tick_us_median: float | None
     mujoco_step_us_median: float | None
+    estimator_tick_us_median: float | None
     real_time_factor: float | None
     nb_ticks: int
     torque_saturation_share: float
@@ -118,6 +131,11 @@ class WalkMetrics:
     pitch_max_deg: float | None
     yaw_rate_deg_s: float | None
     yaw_rate_planned_deg_s: float | None
+    estimator_com_error_rms_m: float | None
+    estimator_com_error_max_m: float | None
+    estimator_com_error_support_rms_m: float | None
+    estimator_com_velocity_error_rms_m_s: float | None
+    estimator_yaw_drift_deg: float | None
     yaw_deviation_deg: float | None = None
 
     def to_dict(self) -> dict[str, Any]:
@@ -241,6 +259,7 @@ def compute_walk_metrics(
     wall_time: float,
     nb_generator_failures: int = 0,
     closing_steps: int = 0,
+    state_source: str = "estimator",
 ) -> WalkMetrics:
     """Metrics of a simulated walk (see :class:`WalkMetrics`).
 
@@ -251,6 +270,8 @@ def compute_walk_metrics(
         wall_time: Wall time of the control loop [s].
         nb_generator_failures: Ticks whose generator reported a failed solve.
         closing_steps: Footsteps of the plan added after the commanded ones.
+        state_source: Where the controller's state came from (``"estimator"`` or
+            ``"oracle"``: no estimator metrics).
     """
     end = float(log.time[-1]) if len(log) else 0.0
     metrics: dict[str, Any] = {
@@ -287,12 +308,18 @@ def compute_walk_metrics(
         ("mujoco_step_us_median", log.mujoco_step),
     ):
         metrics[key] = float(np.median(values) * 1e6) if len(log) else None
+    metrics["estimator_tick_us_median"] = (
+        float(np.median(log.estimator_tick) * 1e6)
+        if len(log) and state_source == "estimator"
+        else None
+    )
     metrics["real_time_factor"] = float(end / wall_time) if wall_time > 0.0 else None
     metrics["nb_ticks"] = len(log)
     saturated = np.abs(log.actuator_force) >= 0.99 * log.torque_limit
     metrics["torque_saturation_share"] = float(np.mean(saturated.any(axis=1))) if len(log) else 0.0
     metrics["mpc_failures"] = int(nb_generator_failures)
     metrics.update(_attitude_metrics(log, schedule, end))
+    metrics.update(EstimatorAccuracy.from_log(log, state_source=state_source).to_dict())
     return WalkMetrics(**metrics)
 
 

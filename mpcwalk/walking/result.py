@@ -1,7 +1,7 @@
 """What :func:`~mpcwalk.walking.runner.run_walk` returns: the walk's configuration, its
 schedule, log, fall verdict and metrics."""
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from typing import Any
 
 from mpcwalk.gait.contact_schedule import ContactSchedule
@@ -28,11 +28,26 @@ class WalkConfig:
         com_height_m: CoM height of the LIPM [m].
         control_period_s: Controller tick [s].
         stabilizer: Stabilizer name ("none" without one).
+        balance: Whether the balance stabilizer ran (DCM integral action, ZMP distribution,
+            foot damping, CoM-offset estimate; the controller's ``balance`` option).
         feedback: Closed loop on the measured CoM.
         dcm_gain: Gain of the DCM feedback.
         observer_gain: Share of the measured CoM error passed to the generator.
         pushes: ``(start [s], duration [s], fx, fy, fz [N])`` of each push.
         arm_swing: Paper M's arm swing factor s (0: arms still).
+        state_source: Where the controller's state came from: ``"estimator"`` (the sensors)
+            or ``"oracle"`` (the simulator's ground truth).
+        ideal_sensors: Exact sensors without latency (``--ideal``).
+        noise_scale: Factor on the noise and bias levels of the robot's sensor model.
+        sensors: The figures of the sensor model the walk ran with
+            (:meth:`~mpcwalk.sim.sensor_model.SensorModel.to_dict`, SI units, the latency
+            in control periods).
+        latency_s: Sensing-to-actuation latency of the controller's state [s] (0 on the
+            oracle, the exact state of the current time).
+        perturbation: How the simulated robot differed from the controller's model
+            (``mass_scale``, ``com_offset_m``, ``friction``, ``servo_strength``; see
+            :class:`~mpcwalk.sim.perturbation.Perturbation`).
+        seed: Seed of the sensor noise.
     """
 
     robot: str
@@ -47,11 +62,19 @@ class WalkConfig:
     com_height_m: float
     control_period_s: float
     stabilizer: str
+    balance: bool
     feedback: bool
     dcm_gain: float
     observer_gain: float
     pushes: tuple[tuple[float, ...], ...]
     arm_swing: float
+    state_source: str = "estimator"
+    ideal_sensors: bool = False
+    noise_scale: float = 1.0
+    sensors: dict[str, Any] = field(default_factory=dict)
+    latency_s: float = 0.0
+    perturbation: dict[str, Any] = field(default_factory=dict)
+    seed: int = 0
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: the command as ``{"vx", "vy", "vyaw"}``, the pushes as lists."""
@@ -59,6 +82,8 @@ class WalkConfig:
         if self.command is not None:
             values["command"] = dict(zip(("vx", "vy", "vyaw"), self.command))
         values["pushes"] = [list(push) for push in self.pushes]
+        values["perturbation"] = dict(self.perturbation)
+        values["sensors"] = dict(self.sensors)
         return values
 
 

@@ -6,18 +6,24 @@ paper M eq. 5, or from a ``.mdat`` path file, paper A), builds a
 robot's LIPM, simulates the position-controlled robot until the schedule ends or it falls,
 and returns the per-tick log with the metrics of :mod:`mpcwalk.walking.metrics`.
 
+The controller walks on what the robot senses (:mod:`mpcwalk.walking.control_loop`): the
+sensor readings of the simulation, noisy and delayed as the robot's sensor model says, go
+through the estimator; the ground truth feeds the metrics, or the controller behind
+``state="oracle"``. The sensors, the state source and the perturbation of the simulated
+robot are options (:class:`~mpcwalk.walking.world_options.WorldOptions`).
+
 Walking defaults come from the ``[gait]`` table of the robot's preset (step duration,
 double-support ratio, swing height, leg limits, MPC horizon); arguments override them.
 """
 
 import math
-import time
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
 from mpcwalk.control.controller import WalkingController
+from mpcwalk.estimation.estimator import Estimator
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import (
     FootGeometry,
@@ -34,10 +40,12 @@ from mpcwalk.footsteps.velocity_planner import (
 )
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.robot import Robot, load_robot
-from mpcwalk.sim import ExternalForce, FallDetector, FallStatus, Simulation, SimulationUnstable
-from mpcwalk.walking.log import WalkLog
+from mpcwalk.sim import ExternalForce, FallDetector, Simulation
+from mpcwalk.sim.perturbation import Perturbation
+from mpcwalk.walking.control_loop import ControlLoop
 from mpcwalk.walking.metrics import compute_walk_metrics, yaw_deviation_deg
 from mpcwalk.walking.result import WalkConfig, WalkResult
+from mpcwalk.walking.world_options import WorldOptions
 
 
 def _path_in_robot_frame(
@@ -135,6 +143,16 @@ def run_walk(
     stabilizer=None,
     arm_swing: float = 0.0,
     yaw_reference: bool = False,
+    noise_scale: float = 1.0,
+    latency: float | None = None,
+    ideal: bool = False,
+    state: str | None = None,
+    perturbation: Perturbation | None = None,
+    mass_scale: float | None = None,
+    com_offset: tuple[float, float] | None = None,
+    friction: float | None = None,
+    servo_strength: float | None = None,
+    seed: int = 0,
 ) -> WalkResult:
     """Simulate a walk of a robot in MuJoCo and measure it.
 
@@ -154,7 +172,7 @@ def run_walk(
         pushes: External forces on the robot during the walk.
         video: MP4 file to render the walk into (offscreen), or None.
         progress: Show a progress bar (off: a library is quiet).
-        feedback: Close the loop on the measured CoM (see the controller).
+        feedback: Close the loop on the estimated CoM (see the controller).
         generator_options: Keyword arguments of the generator (override the preset's).
         controller_options: Keyword arguments of the controller (override the preset's).
         fall_detector: Fall detector (default: ``FallDetector.for_robot``).
@@ -164,6 +182,21 @@ def run_walk(
         yaw_reference: With ``pushes``, also simulate the same walk without them and report
             ``metrics.yaw_deviation_deg``, the largest yaw difference after the last push
             (paper M's measure of the stabilizer); doubles the cost.
+        noise_scale: Factor on the noise and bias of the robot's sensor model (0: exact
+            sensors).
+        latency: Sensing-to-actuation latency [s], a multiple of ``control_period`` (None:
+            the sensor model's, one control period).
+        ideal: Exact sensors, no latency and (unless ``state`` says otherwise) the
+            controller on the ground truth: the simulator as it was before sensing.
+        state: ``"estimator"`` (the controller's state is estimated from the sensors, the
+            default) or ``"oracle"`` (the simulator's ground truth, for comparison).
+        perturbation: How the simulated robot differs from the controller's model
+            (:class:`~mpcwalk.sim.perturbation.Perturbation`), or its keywords:
+        mass_scale: Factor on the torso mass of the simulated robot.
+        com_offset: Shift ``(dx, dy)`` [m] of the torso's CoM of the simulated robot.
+        friction: Friction coefficient of the floor contacts (None: the model's).
+        servo_strength: Factor on the servos' gains and torque limits.
+        seed: Seed of the sensor noise.
 
     Returns:
         The walk, its log, metrics and configuration. A fall ends the run early (``result.fall``).
@@ -171,6 +204,19 @@ def run_walk(
     Raises:
         MpcwalkError: Bad input (unknown robot or generator, infeasible command, bad file).
     """
+    world = WorldOptions.build(
+        noise_scale=noise_scale,
+        latency=latency,
+        ideal=ideal,
+        state=state,
+        perturbation=perturbation,
+        mass_scale=mass_scale,
+        com_offset=com_offset,
+        friction=friction,
+        servo_strength=servo_strength,
+        seed=seed,
+    )
+    world.latency_periods(control_period)  # a latency of whole control periods, checked now
     if command is not None:
         command = as_velocity_command(command)
     robot = (
@@ -218,19 +264,31 @@ def run_walk(
         generator_options=generator_options,
         **options,
     )
-    simulation = Simulation(robot, control_period=control_period, disturbances=pushes)
-    detector = fall_detector or FallDetector.for_robot(robot)
-    log, fall, wall_time = _simulate(
-        robot, controller, simulation, detector, video, progress, f"{robot.name} {generator}"
+    simulation = Simulation(
+        robot,
+        control_period=control_period,
+        disturbances=pushes,
+        sensors=world.sensor_model(robot, control_period),
+        perturbation=world.perturbation,
+        seed=world.seed,
     )
+    estimator = (
+        Estimator(robot, control_period=control_period) if world.state == "estimator" else None
+    )
+    detector = fall_detector or FallDetector.for_robot(robot)
+    outcome = ControlLoop(robot, controller, simulation, estimator, detector).run(
+        video=video, progress=progress, label=f"{robot.name} {generator}"
+    )
+    log, fall = outcome.log, outcome.fall
     schedule = controller.schedule  # with the footsteps a footstep-adaptive generator moved
     metrics = compute_walk_metrics(
         log,
         schedule,
         fall=fall,
-        wall_time=wall_time,
+        wall_time=outcome.wall_time,
         nb_generator_failures=controller.nb_generator_failures,
         closing_steps=1 if command is not None and plan.nb_steps else 0,
+        state_source=world.state,
     )
     config = WalkConfig(
         robot=robot.name,
@@ -245,11 +303,13 @@ def run_walk(
         com_height_m=robot.com_height,
         control_period_s=control_period,
         stabilizer=getattr(stabilizer, "name", "none"),
+        balance=controller.balance is not None,
         feedback=feedback,
         dcm_gain=controller.dcm_feedback.dcm_gain,
         observer_gain=controller.dcm_feedback.observer_gain,
         pushes=tuple((p.start, p.duration, *map(float, p.force)) for p in pushes),
         arm_swing=float(arm_swing),
+        **world.to_config(robot, control_period),
     )
     if yaw_reference and pushes:
         reference = run_walk(
@@ -269,65 +329,13 @@ def run_walk(
             fall_detector=fall_detector,
             stabilizer=stabilizer,
             arm_swing=arm_swing,
+            noise_scale=world.noise_scale,
+            latency=world.latency,
+            ideal=world.ideal,
+            state=world.state,
+            perturbation=world.perturbation,
+            seed=world.seed,
         )
         after = max(p.start + p.duration for p in pushes)
         metrics = metrics.with_yaw_deviation(yaw_deviation_deg(log, reference.log, after))
     return WalkResult(robot.name, generator, schedule, log, fall, metrics, config)
-
-
-def _simulate(
-    robot,
-    controller: WalkingController,
-    simulation: Simulation,
-    detector: FallDetector,
-    video,
-    progress: bool,
-    label: str,
-):
-    """The control loop: (log, final fall status, loop wall time [s])."""
-    from tqdm import tqdm
-
-    recorder = None
-    if video is not None:
-        from mpcwalk.sim import VideoRecorder
-
-        recorder = VideoRecorder(video, simulation.model)
-    state = simulation.reset(robot.q0)
-    output = controller.reset(robot.q0)
-    log = WalkLog.recorder(robot, controller.schedule)
-    fall = FallStatus(False, "", 0.0)
-    nb_ticks = int(math.ceil(controller.schedule.duration / controller.control_period - 1e-9))
-    bar = tqdm(total=nb_ticks, desc=label, unit="tick", disable=not progress, leave=False)
-    start = time.perf_counter()
-    try:
-        if recorder is not None:
-            recorder.capture(simulation.data, 0.0)
-        while not controller.done:
-            tick_start = time.perf_counter()
-            output = controller.step(state.measurements)
-            sim_start = time.perf_counter()
-            try:
-                state = simulation.step(output.joint_targets)
-            except SimulationUnstable as error:
-                fall = FallStatus(True, f"simulation diverged ({error})", simulation.time)
-                break
-            sim_time = time.perf_counter() - sim_start
-            log.append(
-                output,
-                state,
-                simulation.data.actuator_force,
-                sim_time,
-                time.perf_counter() - tick_start - sim_time,
-            )
-            if recorder is not None:
-                recorder.capture(simulation.data, state.time)
-            bar.update(1)
-            fall = detector.check(state)
-            if fall.fell:
-                break
-    finally:
-        wall_time = time.perf_counter() - start
-        bar.close()
-        if recorder is not None:
-            recorder.close()
-    return log.freeze(), fall, wall_time

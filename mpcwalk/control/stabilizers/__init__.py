@@ -1,5 +1,5 @@
 """Stabilizers: corrections a :class:`~mpcwalk.control.controller.WalkingController` applies on
-top of its kinematic references, from the measured state.
+top of its kinematic references, from the estimated state.
 
 A stabilizer receives a typed :class:`StabilizerInput` each tick, never the controller, and
 has two hooks, both optional (identity by default):
@@ -12,10 +12,16 @@ has two hooks, both optional (identity by default):
   feedback, :mod:`mpcwalk.control.stabilizers.gyro`).
 
 :func:`make_stabilizer` builds one by name (``"ankle-imu"``, ``"gyro"``, ``"none"``).
+
+The balance stabilizer (:mod:`mpcwalk.control.stabilizers.balance`: DCM integral action, ZMP
+distribution, foot damping, CoM offset estimate) has hooks of its own into the DCM feedback:
+the controller's option ``balance`` (:class:`BalanceOptions`) sets it, not the stabilizer slot.
 """
 
 from typing import Any
 
+from mpcwalk.control.stabilizers.balance import BalanceStabilizer
+from mpcwalk.control.stabilizers.balance_options import BalanceOptions
 from mpcwalk.control.stabilizers.base import (
     GaitTargets,
     Stabilizer,
@@ -50,6 +56,8 @@ def make_stabilizer(name: str | None, **options: Any) -> Stabilizer | None:
 
 __all__ = [
     "STABILIZER_NAMES",
+    "BalanceOptions",
+    "BalanceStabilizer",
     "GaitTargets",
     "Stabilizer",
     "StabilizerChain",

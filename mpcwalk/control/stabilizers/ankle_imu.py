@@ -8,8 +8,8 @@ joint angle ``q`` turns the foot relative to the shank, so with the foot on the 
 the body above by ``-q`` about the joint axis: the correction is ``dq_j = -u . a_j`` with
 ``a_j`` the axis (the sole's y axis for the pitch, its x axis for the roll).
 
-IMU correction: the body inclination (IMU roll and pitch, first-order low-pass filtered) is
-fed back the same way, turning the feet in contact so that the body comes back upright and
+IMU correction: the body inclination (the estimated base roll and pitch, from the IMU;
+first-order low-pass filtered) is fed back the same way, turning the feet in contact so that the body comes back upright and
 the CoM back over the support.
 """
 
@@ -21,7 +21,6 @@ from mpcwalk.control.stabilizers.base import Stabilizer, StabilizerInput
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Side
 from mpcwalk.robot.robot import Robot
-from mpcwalk.robot.sensors import ImuReading
 
 
 class AnkleImuStabilizer(Stabilizer):
@@ -102,15 +101,16 @@ class AnkleImuStabilizer(Stabilizer):
             ) from None
 
     def _filter(
-        self, imu: ImuReading, reference_base_quaternion: np.ndarray, dt: float
+        self, roll: float, pitch: float, reference_base_quaternion: np.ndarray, dt: float
     ) -> np.ndarray:
-        """Low-pass filtered body inclination (roll, pitch) [rad] relative to the reference
-        base orientation (the IK's, pinocchio quaternion x, y, z, w)."""
+        """Low-pass filtered body inclination (roll, pitch) [rad] of the estimated base
+        relative to the reference base orientation (the IK's, pinocchio quaternion x, y, z,
+        w)."""
         x, y, z, w = (float(c) for c in reference_base_quaternion)
         roll_ref = math.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
         pitch_ref = math.asin(max(-1.0, min(1.0, 2.0 * (w * y - z * x))))
         alpha = dt / (dt + 1.0 / (2.0 * math.pi * self.imu_cutoff))
-        error = np.array([imu.roll - roll_ref, imu.pitch - pitch_ref])
+        error = np.array([roll - roll_ref, pitch - pitch_ref])
         self.inclination += alpha * (error - self.inclination)
         return self.inclination
 
@@ -118,13 +118,13 @@ class AnkleImuStabilizer(Stabilizer):
         self, inputs: StabilizerInput, joint_targets: np.ndarray
     ) -> np.ndarray:
         """Servo targets plus the ankle corrections of the feet in contact (unchanged
-        without measurements)."""
-        sensors = inputs.measurements
-        if sensors is None or self._joints is None:
+        without an estimated state)."""
+        state = inputs.state
+        if state is None or self._joints is None:
             return joint_targets
-        positions, feet = sensors.sole_positions, inputs.targets.feet
+        positions, feet = state.sole_positions, inputs.targets.feet
         dt = inputs.control_period
-        roll, pitch = self._filter(sensors.imu, inputs.q_ref[3:7], dt)
+        roll, pitch = self._filter(state.roll, state.pitch, inputs.q_ref[3:7], dt)
         contacts = feet.contact_sides
         if not contacts:
             return joint_targets
@@ -134,7 +134,7 @@ class AnkleImuStabilizer(Stabilizer):
         com_ref = inputs.com_reference
         for side in contacts:
             index = 0 if side is Side.LEFT else 1
-            v_meas = sensors.com - positions[index]
+            v_meas = state.com - positions[index]
             v_ref = com_ref - feet[side].position
             error += weights[side] * np.cross(v_meas, v_ref) / float(np.dot(v_ref, v_ref))
         error[2] = 0.0
@@ -150,7 +150,7 @@ class AnkleImuStabilizer(Stabilizer):
         command += self.imu_gain * np.array([-roll, -pitch, 0.0])
         out = np.array(joint_targets, dtype=float, copy=True)
         self.last_correction = np.zeros(4)
-        rotations = sensors.sole_rotations
+        rotations = state.sole_rotations
         for side in contacts:
             index = 0 if side is Side.LEFT else 1
             pitch_joint, roll_joint = self._joints[side]

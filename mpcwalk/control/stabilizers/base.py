@@ -2,8 +2,9 @@
 
 A stabilizer never sees the controller. Each tick the controller hands it a frozen
 :class:`StabilizerInput` (time, control period, the robot's kinematics, the schedule, the
-gait targets of this tick, the references the measurement is compared with, the reference
-configuration and the typed sensor readings) and takes back its corrections:
+gait targets of this tick, the references the estimate is compared with, the reference
+configuration and the robot's estimated state with the raw sensor readings it came from) and
+takes back its corrections:
 
 - :meth:`Stabilizer.adjust_targets` returns the feet, CoM and torso-yaw targets of the IK
   (paper A's re-aiming of each step from the measured support foot);
@@ -14,24 +15,24 @@ Both are the identity by default.
 """
 
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from mpcwalk.control.dcm_feedback import support_weights
 from mpcwalk.control.gait_reference import GaitTargets
+from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.robot.robot import Robot
-from mpcwalk.robot.sensors import Measurements
 
 
 @dataclass(frozen=True)
 class StabilizerInput:
     """What a stabilizer sees of one control tick.
 
-    The measurement was taken at ``time - control_period``, the time of the references of
-    the previous tick (``com_reference``, ``zmp_reference``); ``targets`` are this tick's, at
-    ``time``.
+    The state was estimated from readings taken at ``time - control_period`` (plus the
+    sensing latency), the time of the references of the previous tick (``com_reference``,
+    ``zmp_reference``); ``targets`` are this tick's, at ``time``.
 
     Attributes:
         time: Time of the references this tick computes [s].
@@ -46,8 +47,14 @@ class StabilizerInput:
             :meth:`Stabilizer.adjust_joint_targets`.
         com_reference: CoM target of the IK at the measurement time, shape (3,), in [m].
         zmp_reference: Desired ZMP at the measurement time, shape (2,), in [m].
-        measurements: Sensor readings and measured state (IMU, contacts, CoM, soles), or
-            None (a kinematic robot, or a bare CoM state was measured).
+        zmp_planned: The pattern generator's ZMP at the measurement time (the plan, before
+            the DCM feedback), shape (2,), in [m]; None: ``zmp_reference``.
+        state: The robot's estimated state (base, CoM, DCM, contacts, soles) with the raw
+            readings it came from in ``state.sensors`` (gyro, accelerometer, encoders, foot
+            force/torque in the sole frames), or None (a kinematic robot, or a bare CoM
+            state was measured).
+        dcm_error: Estimated minus reference DCM at the estimate's time, shape (2,), in [m]
+            (zero without an estimate).
     """
 
     time: float
@@ -58,7 +65,9 @@ class StabilizerInput:
     q_ref: np.ndarray
     com_reference: np.ndarray
     zmp_reference: np.ndarray
-    measurements: Measurements | None = None
+    zmp_planned: np.ndarray | None = None
+    state: EstimatedState | None = None
+    dcm_error: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
     @property
     def support_weights(self) -> tuple[float, float]:
@@ -74,7 +83,7 @@ class Stabilizer:
 
     def reset(self, inputs: StabilizerInput) -> None:
         """Forget the state of a previous walk; ``inputs`` are the references at the start
-        of the new one (no measurement)."""
+        of the new one (no estimated state)."""
 
     def adjust_targets(self, inputs: StabilizerInput) -> GaitTargets:
         """Feet, CoM and torso-yaw targets of the IK at ``inputs.time``."""

@@ -8,9 +8,11 @@ computed by the IK, for both legs::
     dq_foot_pitch = K_fp * w_pitch   dq_foot_roll = K_fr * w_roll
 
 with the paper's gains (seconds, i.e. rad per rad/s) as defaults. The rates are those of the
-torso about the horizontal axes of its heading frame (forward ``x``, left ``y``), computed
-from the gyroscope and the IMU orientation, so an IMU mounted in any orientation (Talos's is
-upside down) gives the same rates.
+torso about the horizontal axes of its heading frame (forward ``x``, left ``y``): the raw
+gyroscope reading (IMU frame) is carried to the world by the IMU's orientation, which is the
+estimated base orientation times the IMU's mounting in the robot description (the Pinocchio
+frame ``imu`` at the estimated configuration), and turned by the estimated base yaw; an IMU
+mounted in any orientation (Talos's is upside down) gives the same rates.
 
 Signs. Paper M states the offsets as positive gains on its robot's joints. Here the sign of
 each offset is taken from the joint's axis at the nominal posture, so that the offsets are
@@ -27,6 +29,7 @@ import numpy as np
 import pinocchio as pin
 
 from mpcwalk.control.stabilizers.base import Stabilizer, StabilizerInput
+from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.robot import Robot
 
@@ -50,17 +53,47 @@ _JOINTS = {
 }
 
 
-def heading_rates(gyro: np.ndarray, imu_quaternion_wxyz: np.ndarray) -> np.ndarray:
-    """Roll and pitch rates [rad/s] of the IMU's body about the forward and left axes of its
-    heading frame (world frame turned by the body's yaw), shape (2,)."""
-    w, x, y, z = (float(c) for c in imu_quaternion_wxyz)
-    rotation = pin.Quaternion(w, x, y, z).normalized().matrix()
-    omega_world = rotation @ np.asarray(gyro, dtype=float)
-    heading = math.atan2(rotation[1, 0], rotation[0, 0])  # of the IMU's x axis
-    c, s = math.cos(heading), math.sin(heading)
+def heading_rates(gyro: np.ndarray, imu_rotation: np.ndarray, yaw: float) -> np.ndarray:
+    """Roll and pitch rates [rad/s] about the forward and left axes of the heading frame (the
+    world frame turned by ``yaw`` [rad]), shape (2,), of a gyroscope reading ``gyro`` [rad/s]
+    in the IMU frame, whose orientation in the world is ``imu_rotation`` (3, 3)."""
+    omega_world = np.asarray(imu_rotation, dtype=float) @ np.asarray(gyro, dtype=float)
+    c, s = math.cos(yaw), math.sin(yaw)
     return np.array(
         [c * omega_world[0] + s * omega_world[1], -s * omega_world[0] + c * omega_world[1]]
     )
+
+
+class ImuMounting:
+    """Where the IMU sits on the robot: its Pinocchio frame (``imu``) and that frame's parent.
+
+    Args:
+        robot: The robot; its description has a frame ``imu`` (every shipped robot does).
+
+    Raises:
+        FrameNotFound: The robot has no frame ``imu``.
+    """
+
+    frame = "imu"
+
+    def __init__(self, robot: Robot) -> None:
+        self.robot = robot
+        self.frame_id = robot.frame_id(self.frame)
+        frame = robot.model.frames[self.frame_id]
+        self.on_base = int(frame.parentJoint) == 1  # the free-flyer joint
+        """Whether the IMU is fixed to the floating base (no forward kinematics needed)."""
+        self.base_to_imu = np.array(frame.placement.rotation)
+        """Rotation of the IMU frame in its parent joint's frame, shape (3, 3)."""
+        self._data = robot.model.createData()
+
+    def world_rotation(self, state: EstimatedState) -> np.ndarray:
+        """Orientation of the IMU frame in the world, shape (3, 3), from the estimated base
+        orientation (and joint angles when the IMU is not on the base)."""
+        if self.on_base:
+            return np.asarray(state.base_rotation) @ self.base_to_imu
+        model, data = self.robot.model, self._data
+        pin.forwardKinematics(model, data, np.asarray(state.q))
+        return np.array(pin.updateFramePlacement(model, data, self.frame_id).rotation)
 
 
 class GyroStabilizer(Stabilizer):
@@ -113,6 +146,7 @@ class GyroStabilizer(Stabilizer):
         self._coefficients = np.zeros((0, 2))  # per joint: offset per (roll, pitch) rate
         self.last_rates = np.zeros(2)
         self.last_offsets = np.zeros(0)
+        self.mounting: ImuMounting | None = None
 
     @staticmethod
     def _leg_joints(robot: Robot) -> list[tuple[str, int, str]]:
@@ -143,6 +177,7 @@ class GyroStabilizer(Stabilizer):
         """Find the leg joints of ``robot`` and the signs of their offsets (from their axes at
         the nominal posture); forget the last rates."""
         self.last_rates = np.zeros(2)
+        self.mounting = ImuMounting(robot)
         model, data = robot.model, robot.model.createData()
         q0 = robot.q0
         pin.computeJointJacobians(model, data, q0)
@@ -172,12 +207,13 @@ class GyroStabilizer(Stabilizer):
     def adjust_joint_targets(
         self, inputs: StabilizerInput, joint_targets: np.ndarray
     ) -> np.ndarray:
-        """Servo targets plus the offsets of the torso's measured roll and pitch rates
-        (unchanged without measurements)."""
-        if inputs.measurements is None or not len(self._indices):
+        """Servo targets plus the offsets of the torso's roll and pitch rates (gyroscope
+        reading of the estimated state; unchanged without an estimated state)."""
+        state = inputs.state
+        if state is None or self.mounting is None or not len(self._indices):
             return joint_targets
-        imu = inputs.measurements.imu
-        self.last_rates = heading_rates(imu.gyro, imu.quaternion)
+        rotation = self.mounting.world_rotation(state)
+        self.last_rates = heading_rates(state.sensors.imu.gyro, rotation, state.yaw)
         values = np.clip(self._coefficients @ self.last_rates, -self.max_offset, self.max_offset)
         self.last_offsets = values
         out = np.array(joint_targets, dtype=float, copy=True)

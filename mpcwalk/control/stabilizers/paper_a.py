@@ -22,13 +22,13 @@ from enum import Enum
 import numpy as np
 
 from mpcwalk.control.stabilizers.base import GaitTargets, Stabilizer, StabilizerInput
+from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Footstep, Side, wrap_angle
 from mpcwalk.footsteps.reachability import ATLAS_REACHABILITY, ReachabilityRectangle
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.interpolation import step_interpolation
 from mpcwalk.gait.swing_foot import FeetState, FootState
-from mpcwalk.robot.sensors import Measurements
 
 
 class GaitState(str, Enum):
@@ -64,9 +64,9 @@ class PaperAStateMachine(Stabilizer):
 
     Args:
         rectangle: Reachability rectangle of the landings around the support foot.
-        yaw_source: ``"imu"`` (paper A: the support foot's yaw is the IMU yaw plus the
-            reference offset between the base and the support foot) or ``"sole"`` (the
-            measured sole yaw).
+        yaw_source: ``"imu"`` (paper A: the support foot's yaw is the estimated base yaw, from
+            the IMU, plus the reference offset between the base and the support foot) or
+            ``"sole"`` (the estimated sole yaw).
         reaim: Re-aim the steps (False: the state machine only tracks the states).
     """
 
@@ -165,18 +165,16 @@ class PaperAStateMachine(Stabilizer):
         )
 
     def _measured_support(
-        self, inputs: StabilizerInput, side: Side, measurements: Measurements
+        self, inputs: StabilizerInput, side: Side, state: EstimatedState
     ) -> Footstep:
         index = 0 if side is Side.LEFT else 1
-        position = np.array(measurements.sole_positions[index], dtype=float)
-        yaw = float(measurements.sole_yaws[index])
+        position = np.array(state.sole_positions[index], dtype=float)
+        yaw = float(state.sole_yaws[index])
         if self.yaw_source == "imu":
             q_ref = inputs.q_ref  # reference base yaw vs reference sole yaw
             base_rotation = _quaternion_xyzw_matrix(q_ref[3:7])
             sole_ref = inputs.robot.compute_sole_placements(q_ref)[index]
-            yaw = measurements.imu.yaw + float(
-                wrap_angle(_yaw_of(sole_ref.rotation) - _yaw_of(base_rotation))
-            )
+            yaw = state.yaw + float(wrap_angle(_yaw_of(sole_ref.rotation) - _yaw_of(base_rotation)))
         return Footstep(side, position, float(wrap_angle(yaw)))
 
     def adjust_targets(self, inputs: StabilizerInput) -> GaitTargets:
@@ -199,10 +197,10 @@ class PaperAStateMachine(Stabilizer):
                     schedule.t_e / schedule.step_duration,
                 )
             )
-            measurements = inputs.measurements
-            if self._aimed_step < k and not feet[swing].in_contact and measurements is not None:
+            estimate = inputs.state
+            if self._aimed_step < k and not feet[swing].in_contact and estimate is not None:
                 self._lift_offset = self.offsets[swing].copy()
-                support = self._measured_support(inputs, swing.other, measurements)
+                support = self._measured_support(inputs, swing.other, estimate)
                 self.offsets[swing] = self.aim_step(k, support)
                 self._aimed_step = k
         current = {}

@@ -1,0 +1,148 @@
+"""How the simulated robot differs from the model the controller uses: :class:`Perturbation`.
+
+A real robot's model is rarely better than 10 %: its trunk is heavier or lighter than the
+CAD says, its CoM sits elsewhere, the floor is more slippery than assumed and the servos are
+weaker or stiffer. A :class:`Perturbation` changes the simulator's own copy of the MuJoCo
+model (:class:`~mpcwalk.sim.simulation.Simulation` copies ``robot.mj_model``), never the
+robot's models that the controller, the IK and the estimator use.
+
+The trunk is the body of ``robot.torso_frame`` in MuJoCo (``torso`` of ``bioloid-like`` and
+``atlas-like``, ``torso_link`` of ``g1``, ``torso_2_link`` of ``talos``), or the root body
+when that frame is not a body (:func:`trunk_body`).
+"""
+
+import math
+from dataclasses import asdict, dataclass
+from typing import Any
+
+import mujoco
+
+from mpcwalk.exceptions import PerturbationError
+
+MASS_SCALE_RANGE = (0.1, 10.0)
+"""Accepted factors on the trunk mass."""
+
+MAX_COM_OFFSET = 0.5
+"""Largest CoM shift [m] accepted on each axis."""
+
+FRICTION_RANGE = (0.01, 10.0)
+"""Accepted sliding friction coefficients."""
+
+SERVO_STRENGTH_RANGE = (0.1, 10.0)
+"""Accepted factors on the servo gains and torque limits."""
+
+
+def _number(field: str, value: Any, expected: str) -> float:
+    """``value`` as a finite float, or :class:`PerturbationError`."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise PerturbationError(field, value, expected)
+    if not math.isfinite(value):
+        raise PerturbationError(field, value, expected)
+    return float(value)
+
+
+def _in_range(field: str, value: Any, bounds: tuple[float, float]) -> float:
+    low, high = bounds
+    expected = f"a number in [{low:g}, {high:g}]"
+    number = _number(field, value, expected)
+    if not low <= number <= high:
+        raise PerturbationError(field, value, expected)
+    return number
+
+
+@dataclass(frozen=True)
+class Perturbation:
+    """The simulated robot's departure from the model (the default: none).
+
+    Attributes:
+        mass_scale: Factor on the trunk's mass and inertia, in [0.1, 10].
+        com_offset: Shift ``(dx, dy)`` [m] of the trunk's CoM, in the trunk's frame (x
+            forward, y left when upright), each within +-0.5 m.
+        friction: Sliding friction coefficient of the floor and the soles (the contacts
+            take the larger of the two geoms', so both are set), in [0.01, 10]; None keeps
+            the model's.
+        servo_strength: Factor on the position servos' stiffness, damping and torque
+            limits, in [0.1, 10].
+
+    Raises:
+        PerturbationError: A value out of its range (the message gives the range).
+    """
+
+    mass_scale: float = 1.0
+    com_offset: tuple[float, float] = (0.0, 0.0)
+    friction: float | None = None
+    servo_strength: float = 1.0
+
+    def __post_init__(self) -> None:
+        set_field = object.__setattr__
+        set_field(self, "mass_scale", _in_range("mass_scale", self.mass_scale, MASS_SCALE_RANGE))
+        expected = f"two numbers (dx, dy) [m] each within +-{MAX_COM_OFFSET:g} m"
+        try:
+            offset = tuple(self.com_offset)
+        except TypeError:
+            raise PerturbationError("com_offset", self.com_offset, expected) from None
+        if len(offset) != 2:
+            raise PerturbationError("com_offset", self.com_offset, expected)
+        dx, dy = (_number("com_offset", value, expected) for value in offset)
+        if max(abs(dx), abs(dy)) > MAX_COM_OFFSET:
+            raise PerturbationError("com_offset", self.com_offset, expected)
+        set_field(self, "com_offset", (dx, dy))
+        if self.friction is not None:
+            set_field(self, "friction", _in_range("friction", self.friction, FRICTION_RANGE))
+        set_field(
+            self,
+            "servo_strength",
+            _in_range("servo_strength", self.servo_strength, SERVO_STRENGTH_RANGE),
+        )
+
+    @property
+    def is_nominal(self) -> bool:
+        """Whether the simulated robot is the model (no perturbation)."""
+        return self == Perturbation()
+
+    def to_dict(self) -> dict[str, Any]:
+        """The perturbation for the ``config`` block of ``metrics.json`` (JSON types)."""
+        values = asdict(self)
+        values["com_offset"] = list(self.com_offset)
+        return values
+
+    @classmethod
+    def from_dict(cls, values: dict[str, Any]) -> "Perturbation":
+        """The perturbation of :meth:`to_dict`'s output (a sweep's stored case)."""
+        values = dict(values)
+        if "com_offset" in values:
+            values["com_offset"] = tuple(values["com_offset"])
+        return cls(**values)
+
+    def apply(self, model: mujoco.MjModel, *, trunk: int) -> None:
+        """Perturb ``model`` in place (the simulator's copy, never ``robot.mj_model``).
+
+        Args:
+            model: The MuJoCo model to change.
+            trunk: Body index of the trunk (:func:`trunk_body`).
+        """
+        if self.is_nominal:
+            return
+        model.body_mass[trunk] *= self.mass_scale
+        model.body_inertia[trunk] *= self.mass_scale
+        model.body_ipos[trunk, :2] += self.com_offset
+        if self.friction is not None:
+            colliding = (model.geom_contype != 0) | (model.geom_conaffinity != 0)
+            model.geom_friction[colliding, 0] = self.friction
+        servos = (model.actuator_gaintype == mujoco.mjtGain.mjGAIN_FIXED) & (
+            model.actuator_biastype == mujoco.mjtBias.mjBIAS_AFFINE
+        )
+        model.actuator_gainprm[servos, 0] *= self.servo_strength  # kp
+        model.actuator_biasprm[servos, 1:3] *= self.servo_strength  # -kp, -kv
+        model.actuator_forcerange[servos] *= self.servo_strength
+        mujoco.mj_setConst(model, mujoco.MjData(model))  # subtree masses and the like
+
+
+def trunk_body(model: mujoco.MjModel, torso_frame: str) -> int:
+    """MuJoCo body index of the trunk: the body named ``torso_frame``, else the root body
+    (the body of the floating base)."""
+    body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, torso_frame)
+    return int(body) if body >= 0 else int(model.jnt_bodyid[0])
+
+
+__all__ = ["Perturbation", "trunk_body"]

@@ -1,0 +1,133 @@
+"""The control loop of a simulated walk: sensors, estimator, controller, simulation, log.
+
+Each tick (DESIGN.md, section 1) the controller receives the state estimated from the
+sensor readings (:attr:`~mpcwalk.sim.measurements.SimState.sensors`: noisy, biased,
+quantised, delayed by the latency), or the simulator's ground truth
+(:attr:`~mpcwalk.sim.measurements.SimState.oracle`) when the loop has no estimator (the
+explicit ``state="oracle"``); the simulator's ground truth goes to the log and the fall
+detector only.
+"""
+
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from mpcwalk.control.controller import WalkingController
+from mpcwalk.estimation.estimator import Estimator
+from mpcwalk.robot.robot import Robot
+from mpcwalk.sim import FallDetector, FallStatus, Simulation, SimulationUnstable
+from mpcwalk.walking.log import WalkLog
+
+
+@dataclass(frozen=True)
+class LoopOutcome:
+    """What :meth:`ControlLoop.run` returns.
+
+    Attributes:
+        log: The per-tick log.
+        fall: Verdict of the fall detector at the end (or a diverged simulation).
+        wall_time: Wall time of the loop [s].
+    """
+
+    log: WalkLog
+    fall: FallStatus
+    wall_time: float
+
+
+class ControlLoop:
+    """Runs a controller on a simulated robot until its schedule ends or the robot falls.
+
+    Args:
+        robot: The robot (the controller's model; the simulation may perturb its own copy).
+        controller: The walking controller, not yet reset.
+        simulation: The simulation, with its sensor model and perturbation.
+        estimator: The state estimator; None gives the controller the ground truth.
+        detector: The fall detector.
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        controller: WalkingController,
+        simulation: Simulation,
+        estimator: Estimator | None,
+        detector: FallDetector,
+    ) -> None:
+        self.robot = robot
+        self.controller = controller
+        self.simulation = simulation
+        self.estimator = estimator
+        self.detector = detector
+
+    def _estimate(self, state, *, first: bool = False):
+        """The state the controller receives after ``state``."""
+        if self.estimator is None:
+            return state.oracle
+        if first:
+            return self.estimator.reset(state.sensors, self.robot.q0)
+        return self.estimator.update(state.sensors)
+
+    def run(
+        self, *, video: str | Path | None = None, progress: bool = False, label: str = "walk"
+    ) -> LoopOutcome:
+        """Reset the simulation at ``robot.q0``, the estimator with its first readings and
+        the planned start configuration, the controller; then tick.
+
+        Args:
+            video: MP4 file to render the walk into, or None.
+            progress: Show a progress bar over the ticks.
+            label: Label of the progress bar.
+        """
+        from tqdm import tqdm
+
+        robot, controller, simulation = self.robot, self.controller, self.simulation
+        recorder = None
+        if video is not None:
+            from mpcwalk.sim import VideoRecorder
+
+            recorder = VideoRecorder(video, simulation.model)
+        state = simulation.reset(robot.q0)
+        estimate = self._estimate(state, first=True)
+        controller.reset(robot.q0)
+        log = WalkLog.recorder(robot, controller.schedule)
+        fall = FallStatus(False, "", 0.0)
+        nb_ticks = int(math.ceil(controller.schedule.duration / controller.control_period - 1e-9))
+        bar = tqdm(total=nb_ticks, desc=label, unit="tick", disable=not progress, leave=False)
+        start = time.perf_counter()
+        try:
+            if recorder is not None:
+                recorder.capture(simulation.data, 0.0)
+            while not controller.done:
+                tick_start = time.perf_counter()
+                output = controller.step(estimate)
+                sim_start = time.perf_counter()
+                try:
+                    state = simulation.step(output.joint_targets)
+                except SimulationUnstable as error:
+                    fall = FallStatus(True, f"simulation diverged ({error})", simulation.time)
+                    break
+                estimator_start = time.perf_counter()
+                estimate = self._estimate(state)
+                end = time.perf_counter()
+                log.append(
+                    output,
+                    state,
+                    estimate,
+                    simulation.data.actuator_force,
+                    mujoco_step=estimator_start - sim_start,
+                    controller_tick=sim_start - tick_start,
+                    estimator_tick=end - estimator_start,
+                )
+                if recorder is not None:
+                    recorder.capture(simulation.data, state.time)
+                bar.update(1)
+                fall = self.detector.check(state)
+                if fall.fell:
+                    break
+        finally:
+            wall_time = time.perf_counter() - start
+            bar.close()
+            if recorder is not None:
+                recorder.close()
+        return LoopOutcome(log.freeze(), fall, wall_time)
