@@ -17,6 +17,7 @@ def test_loop_benchmark_reduced_run():
         case.generator_tick_us,
         case.ik_tick_us,
         case.controller_tick_us,
+        case.estimator_tick_us,
         case.mujoco_step_us,
     ):
         assert math.isfinite(tick) and tick > 0.0  # every stage was timed
@@ -27,4 +28,10 @@ def test_loop_benchmark_reduced_run():
     # the table shows this run's numbers
     row = f"| {case.distance_m:.3f} ({case.distance_planned_m:.3f}) |"
     assert row in table and f"| {100 * case.cop_margin_p05_m:.2f} |" in table
-    assert f"| {case.real_time_factor:.1f} | {case.generator_tick_us:.0f} |" in table
+    timing = (
+        f"| {case.real_time_factor:.1f} | {case.estimator_tick_us:.0f} | "
+        f"{case.generator_tick_us:.0f} |"
+    )
+    assert timing in table
+    overhead = case.controller_tick_us - case.generator_tick_us - case.ik_tick_us
+    assert f"| {case.controller_tick_us:.0f} | {overhead:.0f} |" in table

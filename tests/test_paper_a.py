@@ -219,12 +219,6 @@ def test_paper_a_gait_walks_with_ankle_imu():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    reason="on the estimated state with one control period of latency the 3 s gait falls at "
-    "11.6 s with the ankle strategy too (it walked on the ground truth); the papers' engines "
-    "under sensing are issue 12's",
-)
 def test_ankle_strategy_makes_the_difference_at_three_seconds_a_step():
     """Faster (3 s per step) the ankle strategy and IMU correction make the difference over
     four steps (on the whole path it still falls, at step 7, and at step 2 without them)."""

@@ -110,12 +110,6 @@ def test_large_humanoid_walks_ten_steps_at_one_second_per_step():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    reason="on the estimated state with one control period of latency: largest landing error "
-    "5.18 cm (> 5) and CoP margin -36 mm (< -30); on the ground truth 3.04 cm and -23 mm "
-    "(issue 11, open)",
-)
 def test_unitree_g1_walks_ten_steps():
     result = run_walk(get_robot("g1"), "mpc", command=(0.2, 0.0, 0.0), nb_steps=10, progress=False)
     check_walk(result.metrics, distance_tolerance=0.06, foot_error_cm=5.0, cop_margin_min=-0.03)

@@ -42,7 +42,9 @@ class LoopCase:
         generator_tick_us: Median generator tick, in [us].
         ik_tick_us: Median IK tick, in [us].
         controller_tick_us: Median whole controller tick (generator, trajectories, IK,
-            feedback), in [us].
+            feedback and stabilizers), in [us].
+        estimator_tick_us: Median estimator tick (the state from the sensor readings), in
+            [us].
         mujoco_step_us: Median physics time per control period (with sensors), in [us].
         distance_m: Distance travelled by the CoM, in [m].
         distance_planned_m: Distance between the start and end midpoints of the plan, in [m].
@@ -64,6 +66,7 @@ class LoopCase:
     generator_tick_us: float
     ik_tick_us: float
     controller_tick_us: float
+    estimator_tick_us: float
     mujoco_step_us: float
     distance_m: float
     distance_planned_m: float
@@ -111,6 +114,7 @@ def run_loop_benchmark(walks=DEFAULT_WALKS, *, progress: bool = True) -> list[Lo
                 generator_tick_us=float(m.generator_tick_us_median or 0.0),
                 ik_tick_us=float(m.ik_tick_us_median or 0.0),
                 controller_tick_us=float(m.controller_tick_us_median or 0.0),
+                estimator_tick_us=float(m.estimator_tick_us_median or 0.0),
                 mujoco_step_us=float(m.mujoco_step_us_median or 0.0),
                 distance_m=float(m.distance_m),
                 distance_planned_m=float(m.distance_planned_m),
@@ -141,15 +145,17 @@ def format_loop_table(cases: Sequence[LoopCase]) -> str:
         )
     lines += [
         "",
-        "| robot | generator | command | real-time factor | generator [us] | IK [us] | "
-        "controller [us] | MuJoCo [us] |",
-        "|---|---|---|---:|---:|---:|---:|---:|",
+        "| robot | generator | command | real-time factor | estimator [us] | generator [us] | "
+        "IK [us] | controller [us] | of which feedback and stabilizers [us] | MuJoCo [us] |",
+        "|---|---|---|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for c in cases:
         lines.append(
             f"| {c.robot} | {c.generator} | {c.command[0]:g}, {c.command[1]:g}, {c.command[2]:.2f} | "
-            f"{c.real_time_factor:.1f} | {c.generator_tick_us:.0f} | {c.ik_tick_us:.0f} | "
-            f"{c.controller_tick_us:.0f} | {c.mujoco_step_us:.0f} |"
+            f"{c.real_time_factor:.1f} | {c.estimator_tick_us:.0f} | {c.generator_tick_us:.0f} | "
+            f"{c.ik_tick_us:.0f} | {c.controller_tick_us:.0f} | "
+            f"{c.controller_tick_us - c.generator_tick_us - c.ik_tick_us:.0f} | "
+            f"{c.mujoco_step_us:.0f} |"
         )
     return "\n".join(lines)
 
@@ -163,7 +169,9 @@ def _run_loop_command(args) -> int:
     ik = run_ik_benchmark(robots, progress=not args.no_progress)
     text = (
         f"The walks of the robots/MuJoCo issue in MuJoCo, control period 10 ms, one process, "
-        f"walks one after the other; medians per tick. Machine: {machine_description()}.\n"
+        f"walks one after the other, on the estimated state with the default sensor noise and "
+        f"latency; medians per tick (the feedback and stabilizers' share: the controller's "
+        f"tick less the generator's and the IK's medians). Machine: {machine_description()}.\n"
         f"Command: `mpcwalk bench loop --out {args.out}`\n\n"
         + format_loop_table(cases)
         + "\n\nIK tick, ours beside pink on the same tasks, robot and motion (same run):\n\n"

@@ -42,6 +42,7 @@ from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.robot import Robot, load_robot
 from mpcwalk.sim import ExternalForce, FallDetector, Simulation
 from mpcwalk.sim.perturbation import Perturbation
+from mpcwalk.sim.sensor_model import SensorModel
 from mpcwalk.walking.control_loop import ControlLoop
 from mpcwalk.walking.metrics import compute_walk_metrics, yaw_deviation_deg
 from mpcwalk.walking.result import WalkConfig, WalkResult
@@ -273,7 +274,13 @@ def run_walk(
         seed=world.seed,
     )
     estimator = (
-        Estimator(robot, control_period=control_period) if world.state == "estimator" else None
+        Estimator(  # tuned to the robot's data sheet, whatever the world's sensors do
+            robot,
+            control_period=control_period,
+            encoder_resolution=SensorModel.for_robot(robot).encoder_resolution,
+        )
+        if world.state == "estimator"
+        else None
     )
     detector = fall_detector or FallDetector.for_robot(robot)
     outcome = ControlLoop(robot, controller, simulation, estimator, detector).run(
