@@ -367,20 +367,7 @@ def test_gyro_stabilizer_keeps_the_open_loop_closed_form_walking():
 
 @pytest.mark.slow
 @pytest.mark.parametrize(
-    "sensing",
-    [
-        pytest.param(["--ideal"], id="ideal"),
-        pytest.param(
-            [],
-            id="sensors",
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="paper M's engine (closed form + gyro + arm swing 0.8) falls under "
-                "these pushes with one control period of latency (without the arm swing, or "
-                "without latency, it walks); the papers' engines under sensing are issue 12's",
-            ),
-        ),
-    ],
+    "sensing", [pytest.param(["--ideal"], id="ideal"), pytest.param([], id="sensors")]
 )
 def test_walk_command_with_paper_m_options_reports_attitude_and_yaw_deviation(
     tmp_path, capsys, sensing
@@ -415,7 +402,9 @@ def test_walk_command_with_paper_m_options_reports_attitude_and_yaw_deviation(
     assert code == 0, capsys.readouterr().out
     metrics = json.loads((tmp_path / "metrics.json").read_text())
     assert metrics["config"]["stabilizer"] == "gyro" and metrics["config"]["arm_swing"] == 0.8
-    assert 0.0 < metrics["yaw_deviation_deg"] < 30.0  # 21.7 deg measured (--ideal)
+    # 21.7 deg measured with --ideal, 37.9 deg on the sensors (paper M's engine turns more
+    # under its pushes with one control period of latency; it does not fall)
+    assert 0.0 < metrics["yaw_deviation_deg"] < 45.0
     assert metrics["roll_max_deg"] > 0.0 and metrics["pitch_max_deg"] > 0.0
     # the push turns the robot: the deviation from the unpushed walk is its yaw at the end
     assert metrics["yaw_deviation_deg"] >= abs(metrics["yaw_change_deg"]) - 2.0
