@@ -10,7 +10,7 @@ from mpcwalk.exceptions import ConfigurationError, MpcwalkError
 
 _DESCRIPTION = (
     "Optimization-based walking of humanoid robots: plan a walk on the LIPM (plan), list the "
-    "pattern generators (generators) and the robots (robots), simulate a robot walking in "
+    "pattern generators (generators), the named controllers (controllers) and the robots (robots), simulate a robot walking in "
     "MuJoCo (walk), run the benchmarks (bench). Exit status: 0 on success, 1 when a "
     "simulated robot fell, 2 on bad input."
 )
@@ -48,18 +48,32 @@ def _add_plan_parser(sub) -> None:
     p.add_argument(
         "--generator", default="mpc", help="pattern generator (list: mpcwalk generators)"
     )
-    p.add_argument("--vx", type=float, default=0.1, help="forward velocity [m/s]")
-    p.add_argument("--vy", type=float, default=0.0, help="lateral velocity [m/s]")
-    p.add_argument("--vyaw", type=float, default=0.0, help="yaw rate [rad/s]")
+    p.add_argument(
+        "--vx",
+        type=float,
+        default=None,
+        help="forward velocity [m/s] (default: 0.1, or the legs' reach per step when slower)",
+    )
+    p.add_argument("--vy", type=float, default=None, help="lateral velocity [m/s] (default: 0)")
+    p.add_argument("--vyaw", type=float, default=None, help="yaw rate [rad/s] (default: 0)")
     p.add_argument(
         "--steps",
         type=int,
         default=20,
         help="number of steps that follow the command (a closing step is added)",
     )
-    p.add_argument("--step-duration", type=float, default=0.5, help="step duration T [s]")
     p.add_argument(
-        "--ds-ratio", type=float, default=0.2, help="double support ratio r_ds in [0, 1)"
+        "--step-duration",
+        type=float,
+        default=None,
+        help="step duration T [s] (default: the generator's own, paper A's 12 s for the static "
+        "gaits, else 0.5 s)",
+    )
+    p.add_argument(
+        "--ds-ratio",
+        type=float,
+        default=None,
+        help="double support ratio r_ds in [0, 1) (default: the generator's, else 0.2)",
     )
     p.add_argument("--com-height", type=float, default=0.23, help="CoM height z_c [m]")
     p.add_argument("--control-period", type=float, default=0.01, help="generator tick [s]")
@@ -85,11 +99,20 @@ def _run_plan(args) -> int:
             f"--steps must be a positive number of steps, got {args.steps}; "
             "e.g. --steps 10 plans 10 steps and the closing step."
         )
-    timing = StepTiming(step_duration=args.step_duration, double_support_ratio=args.ds_ratio)
+    timing = None
+    if args.step_duration is not None or args.ds_ratio is not None:
+        timing = StepTiming(
+            step_duration=0.5 if args.step_duration is None else args.step_duration,
+            double_support_ratio=0.2 if args.ds_ratio is None else args.ds_ratio,
+        )
     options = {} if args.solver is None else {"solver": args.solver}
+    velocity = (args.vx, args.vy, args.vyaw)
+    command = None
+    if any(v is not None for v in velocity):
+        command = VelocityCommand(*(0.0 if v is None else v for v in velocity))
     result = plan_walk(
         args.generator,
-        VelocityCommand(args.vx, args.vy, args.vyaw),
+        command,
         args.steps,
         lipm=LIPM(com_height=args.com_height),
         timing=timing,
@@ -101,7 +124,8 @@ def _run_plan(args) -> int:
     traj = result.rollout
     m = result.metrics
     steps = _steps_text(m["nb_steps"], m["closing_steps"])
-    title = f"{args.generator}: v=({args.vx}, {args.vy}, {args.vyaw}), {steps}"
+    c = m["command"]
+    title = f"{args.generator}: v=({c['vx']:g}, {c['vy']:g}, {c['vyaw']:g}), {steps}"
     fig = plot_top_view(result.schedule, traj.times, traj.com, traj.zmp, title=title)
     fig.savefig(out / "top_view.png", dpi=120)
     fig = plot_com_zmp(
@@ -146,6 +170,14 @@ def _run_generators(args) -> int:
     return 0
 
 
+def _run_controllers(args) -> int:
+    from mpcwalk.walking.controllers import CONTROLLERS
+
+    for config in CONTROLLERS.values():
+        print(f"{config.name:13s} {config.summary}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``mpcwalk`` argument parser."""
     from mpcwalk import __version__
@@ -155,6 +187,10 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     _add_plan_parser(sub)
     sub.add_parser("generators", help="list the pattern generators")
+    sub.add_parser(
+        "controllers",
+        help="list the named controller configurations (mpcwalk walk --controller NAME)",
+    )
     from mpcwalk.bench.cli import add_bench_parser
     from mpcwalk.walking.cli import add_robots_parser, add_walk_parser
 
@@ -174,6 +210,8 @@ def main(argv: list[str] | None = None) -> int:
             return _run_plan(args)
         if args.command == "generators":
             return _run_generators(args)
+        if args.command == "controllers":
+            return _run_controllers(args)
         if args.command == "bench":
             return args.bench_func(args)
         if args.command == "walk":

@@ -47,12 +47,17 @@ def test_plan_writes_plots_and_metrics(tmp_path, capsys):
     assert "mpc: 6 steps + closing step over 5.50 s" in out_text  # 3.5 s + 2 x 1 s standing
 
 
-def test_plan_of_static_gait_at_paper_m_speed_warns(tmp_path, capsys):
-    code = main(["plan", "--generator", "static", "--steps", "2", "--out", str(tmp_path)])
-    assert code == 0
-    metrics = json.loads((tmp_path / "metrics.json").read_text())
-    assert metrics["zmp_margin_min_m"] < 0.0 < metrics["com_margin_min_m"]
-    assert "leaves the support polygon" in capsys.readouterr().err
+def test_plan_of_static_gait_at_paper_m_timing_is_refused(tmp_path, capsys):
+    out = tmp_path / "plan"
+    code = main(
+        ["plan", "--generator", "static", "--steps", "2", "--step-duration", "0.5"]
+        + ["--out", str(out)]
+    )
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "The static gait cannot walk this plan at T = 0.5 s, r_ds = 0.2" in err
+    assert "The fastest feasible timing is a step duration of" in err
+    assert not out.exists()
 
 
 @pytest.mark.parametrize(

@@ -53,22 +53,22 @@ def test_feedforward_makes_the_servos_hold_a_one_foot_stance(robot):
     sagged = hold(robot, shifted, raised, None)
     error_held = np.abs(held.oracle.joint_positions - raised[7:]).max()
     error_sagged = np.abs(sagged.oracle.joint_positions - raised[7:]).max()
-    assert error_held < 0.015  # [rad]
-    assert error_sagged > 0.05  # kp = 10 N m/rad servos sag by degrees under the robot
+    # kp = 50 N m/rad servos: 1.6 mrad held, 17 mrad (1 deg) sagged, measured
+    assert error_held < 0.005  # [rad]
+    assert error_sagged > 0.01 and error_sagged > 5.0 * error_held
     assert not held.oracle.right_foot.in_contact
-    assert sagged.oracle.right_foot.in_contact  # the foot never leaves the ground
     target = robot.compute_com(raised)[:2]
     assert np.linalg.norm(held.oracle.com[:2] - target) < 0.005
 
 
 def test_servo_parameters_come_from_the_mujoco_actuators(robot):
     feedforward = ServoFeedforward(robot)
-    np.testing.assert_allclose(feedforward.stiffness, 10.0)
+    np.testing.assert_allclose(feedforward.stiffness, 50.0)
     np.testing.assert_allclose(feedforward.torque_limit, 1.5)
-    np.testing.assert_allclose(feedforward.damping, 0.1 + 0.02)  # servo kv + joint damping
+    np.testing.assert_allclose(feedforward.damping, 0.5 + 0.02)  # servo kv + joint damping
     torques = feedforward.compute_torques(robot.q0, (0.5, 0.5))
     offsets = feedforward.compute_offsets(robot.q0, (0.5, 0.5))
-    np.testing.assert_allclose(offsets, torques / 10.0)
+    np.testing.assert_allclose(offsets, torques / 50.0)
     # standing symmetric: mirrored joints carry mirrored torques, the knees the most
     names = robot.joint_names
     knee = torques[names.index("left_knee")]

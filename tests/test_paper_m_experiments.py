@@ -153,7 +153,7 @@ def test_real_push_case_on_the_analytic_gait():
         relative_tolerance=0.5,
         max_impulse=3.0,
     )
-    kwargs = CONTROLLERS["analytic"]
+    kwargs = CONTROLLERS["paper-m-open"]
     walk = {"command": config.command, "nb_steps": config.nb_steps}
     unpushed = walk_task("bioloid-like", kwargs, walk)
     assert not unpushed.fall.fell
@@ -165,7 +165,7 @@ def test_real_push_case_on_the_analytic_gait():
         {**walk, "pushes": [ExternalForce(start, 0.1, config.push_force(90.0, 3.0))]},
     )
     assert huge.fall.fell and huge.fall.time < start + 1.0
-    result = push_case_task("bioloid-like", kwargs, config, SweepCase("analytic", 90.0, "ss-mid"))
+    result = push_case_task("bioloid-like", kwargs, config, SweepCase("paper-m-open", 90.0, "ss-mid"))
     assert 0.0 <= result.largest_survived < result.smallest_fallen <= 3.0
     for impulse, survived in result.trials:
         assert survived == (impulse <= result.largest_survived)
@@ -245,7 +245,7 @@ def _synthetic_results():
     config = PushSweepConfig(
         directions_deg=(0.0, 90.0), phases=("ss-start", "ss-mid"), impulse_grid=(0.1, 0.2, 0.3, 0.4)
     )
-    cases = [_case("analytic", d, p, 0.1, 0.12) for d in (0.0, 90.0) for p in config.phases]
+    cases = [_case("paper-m", d, p, 0.1, 0.12) for d in (0.0, 90.0) for p in config.phases]
     cases += [
         _case("mpc", 0.0, "ss-start", 0.3, 0.33),
         _case("mpc", 0.0, "ss-mid", 0.35, 0.4),
@@ -263,13 +263,13 @@ def _synthetic_results():
             "push_sweep": vars(config),
             "speed": {"nb_steps": 10, "step_durations": [0.5]},
         },
-        "controllers": {"analytic": CONTROLLERS["analytic"], "mpc": CONTROLLERS["mpc"]},
+        "controllers": {"paper-m": CONTROLLERS["paper-m"], "mpc": CONTROLLERS["mpc"]},
         "skipped": {"mpc-steps": "no generator 'mpc-steps'"},
         "wall_time_s": 12.0,
         "workers": 2,
         "nb_tasks": 10,
         "turning": {
-            "analytic": {
+            "paper-m": {
                 "fell": True,
                 "yaw_at_check_deg": 50.0,
                 "yaw_rate_deg_s": 15.0,
@@ -283,7 +283,7 @@ def _synthetic_results():
             },
         },
         "disturbance": {
-            "analytic": {
+            "paper-m": {
                 "fell": True,
                 "yaw_deviation_deg": 11.0,
                 "stabilizer_ratio": 0.5,
@@ -319,7 +319,7 @@ def test_sweep_summary_table_and_goals_on_synthetic_results():
     assert summary["mpc"]["per_direction_Ns"] == pytest.approx({"0": 0.325, "90": 0.2})
     # grid 0.1..0.4 against the cells 0.3, 0.35, 0.15, 0.25: 3 + 3 + 1 + 2 of 16
     assert summary["mpc"]["success_rate_grid"] == pytest.approx(9 / 16)
-    assert summary["analytic"]["success_rate_grid"] == pytest.approx(0.25)
+    assert summary["paper-m"]["success_rate_grid"] == pytest.approx(0.25)
     rows = table_rows(results)
     mpc = rows[1]
     assert mpc["impulse_ratio"] == pytest.approx(2.75)
@@ -328,17 +328,17 @@ def test_sweep_summary_table_and_goals_on_synthetic_results():
     assert goals == {
         ("mpc", "impulse"): True,
         ("mpc", "turning"): True,
-        ("analytic", "turning"): False,
+        ("paper-m", "turning"): False,
     }
     table = format_table(rows)
     lines = table.splitlines()
     assert "paper M (reported" in lines[2] and "| 70.0 |" in lines[2]
-    assert lines[3].startswith("| analytic | yes | 50.0 | 15.00 | -25.0 | yes | 11.00 (fell) |")
+    assert lines[3].startswith("| paper-m | yes | 50.0 | 15.00 | -25.0 | yes | 11.00 (fell) |")
     assert "| 0.50 (fell) |" in lines[3] and "| 0.40 |" in lines[4] and "| 2.75 |" in lines[4]
     readme = format_readme(
         {**results, "rows": rows, "goals": goal_checks(rows), "figures": ["push_polar.png"]}
     )
-    assert table in readme and "**met**: mpc, impulse >= 2 x analytic (2.75)" in readme
+    assert table in readme and "**met**: mpc, impulse >= 1.5 x paper-m (2.75)" in readme
     assert "skipped `mpc-steps`: no generator 'mpc-steps'" in readme
     assert "| mpc | 0.325 | 0.200 |" in readme and "![push_polar.png](push_polar.png)" in readme
 
@@ -415,7 +415,7 @@ def test_runner_writes_table_json_and_figures(tmp_path):
                 "--config",
                 str(config),
                 "--controllers",
-                "analytic",
+                "paper-m-open",
                 "--experiments",
                 "turning",
                 "push",
@@ -427,11 +427,11 @@ def test_runner_writes_table_json_and_figures(tmp_path):
         == 0
     )
     results = json.loads((out / "results.json").read_text())
-    assert results["mode"] == "quick" and list(results["controllers"]) == ["analytic"]
+    assert results["mode"] == "quick" and list(results["controllers"]) == ["paper-m-open"]
     assert len(results["push_sweep"]["cases"]) == 1
     row = results["rows"][0]
     (case,) = results["push_sweep"]["cases"]
-    assert row["controller"] == "analytic" == case["controller"]
+    assert row["controller"] == "paper-m-open" == case["controller"]
     # the row's impulse is the one cell's bisection result: the largest impulse it survived
     survived = [impulse for impulse, ok in case["trials"] if ok]
     assert case["largest_survived_Ns"] == pytest.approx(max(survived, default=0.0), abs=1e-6)
@@ -439,9 +439,9 @@ def test_runner_writes_table_json_and_figures(tmp_path):
     assert row["impulse_median_Ns"] > 0.0
     assert row["turning_yaw_deg"] is None  # 1.5 s of walking: no yaw after 3.5 s
     readme = (out / "README.md").read_text()
-    assert "| analytic |" in readme and "--quick" in readme
+    assert "| paper-m-open |" in readme and "--quick" in readme
     for name in (
-        "turning_top_analytic.png",
+        "turning_top_paper-m-open.png",
         "turning_attitude.png",
         "push_polar.png",
         "push_heatmap.png",

@@ -342,9 +342,10 @@ def test_yaw_deviation_counts_after_the_push_only():
 
 # ---------------------------------------------------------------- in MuJoCo
 @pytest.mark.slow
-def test_gyro_stabilizer_keeps_the_open_loop_closed_form_walking():
-    """Paper M's gait without any CoM feedback: its sway grows until it falls after about 6 s
-    of walking; the gyro stabilizer damps it and the walk ends standing."""
+def test_gyro_stabilizer_damps_the_open_loop_closed_form():
+    """Paper M's gait without any CoM feedback walks with and without the gyro stabilizer (on
+    the default sensors, one control period of latency); the stabilizer lowers the largest
+    roll (2.90 deg without, 2.50 deg with, measured)."""
     from mpcwalk.walking.runner import run_walk
 
     robot = get_robot("bioloid-like")
@@ -360,9 +361,9 @@ def test_gyro_stabilizer_keeps_the_open_loop_closed_form_walking():
         ).metrics
         for name in ("none", "gyro")
     }
-    assert runs["none"]["fell"]
-    assert not runs["gyro"]["fell"], runs["gyro"]["fall_reason"]
-    assert runs["gyro"]["roll_max_deg"] < 10.0
+    for name in ("none", "gyro"):
+        assert not runs[name]["fell"], (name, runs[name]["fall_reason"])
+    assert runs["gyro"]["roll_max_deg"] < runs["none"]["roll_max_deg"] < 5.0
 
 
 @pytest.mark.slow
@@ -382,14 +383,10 @@ def test_walk_command_with_paper_m_options_reports_attitude_and_yaw_deviation(
             *sensing,
             "--robot",
             "bioloid-like",
-            "--generator",
-            "analytic",
+            "--controller",
+            "paper-m",
             "--duration",
             "3",
-            "--stabilizer",
-            "gyro",
-            "--arm-swing",
-            "0.8",
             "--push",
             "0,0.1,0,5,0",
             "--push",
@@ -402,9 +399,9 @@ def test_walk_command_with_paper_m_options_reports_attitude_and_yaw_deviation(
     assert code == 0, capsys.readouterr().out
     metrics = json.loads((tmp_path / "metrics.json").read_text())
     assert metrics["config"]["stabilizer"] == "gyro" and metrics["config"]["arm_swing"] == 0.8
-    # 21.7 deg measured with --ideal, 37.9 deg on the sensors (paper M's engine turns more
+    # 9.6 deg measured with --ideal, 21.6 deg on the sensors (paper M's engine turns more
     # under its pushes with one control period of latency; it does not fall)
-    assert 0.0 < metrics["yaw_deviation_deg"] < 45.0
+    assert 0.0 < metrics["yaw_deviation_deg"] < 30.0
     assert metrics["roll_max_deg"] > 0.0 and metrics["pitch_max_deg"] > 0.0
     # the push turns the robot: the deviation from the unpushed walk is its yaw at the end
     assert metrics["yaw_deviation_deg"] >= abs(metrics["yaw_change_deg"]) - 2.0

@@ -1,29 +1,23 @@
-"""WalkingController: one control tick from footsteps to joint targets.
-
-One tick composes the parts of the walking pipeline (DESIGN.md, section 1):
+"""WalkingController: one control tick from footsteps to joint targets. One tick composes:
 
 1. the pattern generator advances by one control period and returns the CoM reference of
    the next tick (closed loop: from the measured CoM, see below);
 2. the swing-foot and torso-yaw trajectories (paper M eq. 19-23,
    :class:`~mpcwalk.control.gait_reference.GaitReference`) give the feet and torso targets;
-3. the whole-body IK moves the controller's reference configuration ``q_ref`` one step
-   towards them (CoM at the robot's CoM height, soles flat, torso upright at the yaw,
-   posture): the robot is position controlled, the IK is its kinematic model;
-4. the arm swing (paper M eq. 24-25, :class:`~mpcwalk.control.arm_swing.ArmSwing`), when on,
-   is a joint stage of its own after the IK: it sets the shoulder pitch angles of ``q_ref``;
+3. the whole-body IK moves the reference configuration ``q_ref`` one step towards them (the
+   robot is position controlled, the IK is its kinematic model);
+4. the arm swing (paper M eq. 24-25, :class:`~mpcwalk.control.arm_swing.ArmSwing`), a joint
+   stage after the IK, sets the shoulder pitch angles of ``q_ref``;
 5. the servo feed-forward (:class:`~mpcwalk.control.servo_feedforward.ServoFeedforward`)
    adds the offsets ``tau / kp`` that make compliant position servos carry the reference
    motion, with the contact wrench at the desired ZMP.
 
-The controller knows the robot through its estimated state (an
-:class:`~mpcwalk.estimation.estimated_state.EstimatedState`), never a simulator's ground
-truth. Stabilizers (:mod:`mpcwalk.control.stabilizers`: the balance stabilizer, on by default
-for the QP generators, then the papers' ones) correct the targets of step 3 and the servo
-targets of step 5 from a typed input, never the controller. In closed loop
-(:mod:`mpcwalk.control.dcm_feedback`) the estimated CoM, anchored to the estimated feet,
-reaches the generator through an observer, and the desired ZMP of step 5 is the generator's
-plus the DCM feedback; the kinematic reference stays the generator's, so that the servos
-keep pulling the robot towards it.
+The controller knows the robot through its estimated state, never a simulator's ground
+truth. Stabilizers (:mod:`mpcwalk.control.stabilizers`) correct the targets of step 3 and
+the servo targets of step 5 from a typed input. In closed loop the estimated CoM reaches the
+generator through an observer and the desired ZMP of step 5 is the generator's plus the DCM
+feedback (:mod:`mpcwalk.control.dcm_feedback`); the heading hold
+(:mod:`mpcwalk.control.heading_hold`) turns the footsteps to come by the measured heading error.
 """
 
 import time
@@ -35,6 +29,7 @@ from mpcwalk.control.arm_swing import ArmSwing
 from mpcwalk.control.control_output import ControlOutput
 from mpcwalk.control.dcm_feedback import DcmFeedback, measured_com_state, support_weights
 from mpcwalk.control.gait_reference import GaitReference, GaitTargets
+from mpcwalk.control.heading_hold import HeadingHold
 from mpcwalk.control.servo_feedforward import ServoFeedforward
 from mpcwalk.control.stabilizers.balance import make_balance
 from mpcwalk.control.stabilizers.balance_options import BalanceOptions
@@ -59,8 +54,8 @@ class WalkingController:
             period is ``control_period``; :meth:`for_robot` builds one by name.
         schedule: Footsteps and contact phases of the walk.
         ik: Whole-body IK of ``robot`` (default: ``WholeBodyIK(robot)``).
-        swing_profile: ``"cosine"`` (paper M) or ``"ctraj"`` (paper A's quintic Cartesian
-            lift and lower), see :class:`~mpcwalk.gait.swing_foot.SwingFootTrajectory`.
+        swing_profile: ``"cosine"`` (paper M) or ``"ctraj"`` (paper A), see
+            :class:`~mpcwalk.gait.swing_foot.SwingFootTrajectory`.
         step_height: Swing-foot height [m]; None: the robot's ``gait.step_height`` (its
             preset's ``[gait]`` table, else paper M's 0.04 m).
         feedback: Close the loop on the estimated CoM when an estimate is given (False:
@@ -83,10 +78,11 @@ class WalkingController:
         arm_swing: Paper M's arm movement factor s (eq. 24-25; 0.8 in the paper): after the
             IK, the shoulder pitch joints swing each hand with the opposite foot. 0 keeps the
             arms in their nominal posture.
+        heading_hold: Hold the plan's heading (:mod:`mpcwalk.control.heading_hold`); None: on
+            with ``feedback`` when the generator follows new footsteps and no stabilizer re-aims.
 
-    A footstep-adaptive generator may move the future footsteps: when its output carries a
-    new schedule (:attr:`GeneratorOutput.schedule`), the controller follows it from that
-    tick on (swing-foot landing, support polygons of the DCM feedback).
+    When the generator's output carries a new schedule (footsteps moved), the controller
+    follows it from that tick on.
 
     Raises:
         ConfigurationError: A CoM height or control period that does not match, a gain out
@@ -111,6 +107,7 @@ class WalkingController:
         swing_profile: str = "cosine",
         arm_swing: float = 0.0,
         balance: BalanceOptions | bool | None = None,
+        heading_hold: bool | None = None,
     ) -> None:
         if not (np.isfinite(control_period) and control_period > 0.0):
             raise ConfigurationError(
@@ -152,8 +149,10 @@ class WalkingController:
         self.stabilizer = stabilizer
         self.balance = make_balance(balance, generator.name) if self.feedback else None
         self.arm_swing = ArmSwing(robot, arm_swing) if arm_swing else None
-        self.nb_generator_failures = 0
-        """Ticks whose generator reported a failed solve (or raised NoSolutionFound)."""
+        self.heading_hold = HeadingHold.maybe(
+            schedule.plan, heading_hold, feedback, generator, stabilizer
+        )
+        self.nb_generator_failures = 0  # ticks whose generator failed (or raised)
         self.q_ref: np.ndarray | None = None
         self.last_output: ControlOutput | None = None
 
@@ -293,6 +292,7 @@ class WalkingController:
             )
         self.q_ref = q.copy()
         self.nb_generator_failures = 0
+        self.heading_hold = self.heading_hold and HeadingHold(self.heading_hold.plan)
         self.reference.restart()
         self.dcm_feedback.set_schedule(self.schedule)
         com = self.robot.compute_com(q)
@@ -326,10 +326,8 @@ class WalkingController:
         """One control tick: the references one control period later and the joint targets.
 
         Args:
-            state: What the controller knows of the robot now: its estimated state
-                (:class:`~mpcwalk.estimation.estimated_state.EstimatedState`: CoM anchored
-                to the estimated soles, sensors for the stabilizers), a bare ComState (no
-                anchoring, no stabilizer input), or None (kinematic robot, open loop).
+            state: The robot's estimated state (:class:`~mpcwalk.estimation.estimated_state.
+                EstimatedState`), a bare ComState, or None (kinematic robot, open loop).
 
         Raises:
             NotReset: :meth:`reset` was not called.
@@ -348,6 +346,10 @@ class WalkingController:
             generator_input, dcm_error = self.dcm_feedback.observe(
                 measured, estimate, previous, self.time, offset
             )
+        turned = self.heading_hold and self.heading_hold.update(self.time, self.schedule, estimate)
+        if turned:
+            self.generator.schedule = turned
+            self.follow_schedule(turned)
         start = time.perf_counter()
         output, failed = self._step_generator(generator_input, dcm_error)
         generator_tick = time.perf_counter() - start

@@ -17,7 +17,8 @@ The pattern generator's CoM is the reference of the whole-body IK, i.e. the serv
    balance stabilizer (:mod:`mpcwalk.control.stabilizers.balance`) adds an integral term to
    that ZMP and an estimated CoM offset to the measurement.
 
-Measured on the bioloid-like robot (kp = 10 N m/rad servos), 20 steps at 0.1 m/s with the
+Measured on the bioloid-like robot when its servos had kp = 10 N m/rad (the AX-12A's default
+compliance slope; 50 N m/rad since), 20 steps at 0.1 m/s with the
 MPC: restarting the generator from the raw measured state (``observer_gain = 1``) makes the
 kinematic reference follow every deviation of the robot, the servos stop pushing back and
 it sits down within a second (falls within 1.6 s with the DCM feedback, as with 0.5);

@@ -6,8 +6,9 @@ torque ``tau_j`` of the motion it needs the target
 
     q_j + (tau_j + (kv_j + d_j) dq_j) / kp_j          (d_j: passive joint damping).
 
-Small humanoids with hobby servos (AX-12A: kp about 10 N m/rad, 1.5 N m stall torque) sag by
-several degrees at the knees and hip rolls without it: the swing foot of a kinematic plan
+Small humanoids with hobby servos (AX-12A: 1.5 N m stall torque, kp from about 9 N m/rad at the
+default compliance slope to 74 N m/rad at slope 4; bioloid-like: 50) sag by degrees at the knees and hip rolls
+without it: the swing foot of a kinematic plan
 then does not lift and the CoM is off by centimetres.
 
 The torques come from the inverse dynamics of the reference motion (Pinocchio's RNEA) with

@@ -40,25 +40,27 @@ from mpcwalk.experiments.push_sweep import (
 from mpcwalk.footsteps.footstep import Side, wrap_angle
 from mpcwalk.robot.package_data import EXPERIMENT_DATA, package_data_dir
 from mpcwalk.sim import ExternalForce
+from mpcwalk.walking.controllers import controller_config
 from mpcwalk.walking.result import WalkResult
 from mpcwalk.walking.runner import run_walk
 
-#: The controllers compared: name -> keyword arguments of :func:`mpcwalk.walking.runner.run_walk`.
-#: Names that this installation does not know (generator, stabilizer, argument) are skipped
-#: with the reason (:func:`controller_availability`).
+#: The controllers compared: name -> keyword arguments of :func:`mpcwalk.walking.runner.run_walk`
+#: (the named configurations of :mod:`mpcwalk.walking.controllers`, by hand so that the
+#: disturbance experiment can toggle the stabilizer). Names that this installation does not
+#: know (generator, stabilizer, argument) are skipped with the reason
+#: (:func:`controller_availability`). Every ratio is taken against ``paper-m``, paper M's
+#: whole engine; ``paper-m-open`` and ``analytic+gyro`` are in the tables for information.
 CONTROLLERS: dict[str, dict[str, Any]] = {
-    "analytic": {"generator": "analytic", "feedback": False, "stabilizer": None},
-    "analytic+gyro": {"generator": "analytic", "feedback": False, "stabilizer": "gyro"},
+    "paper-m-open": controller_config("paper-m-open").walk_kwargs(),
+    "analytic+gyro": {**controller_config("paper-m-open").walk_kwargs(), "stabilizer": "gyro"},
     # paper M's whole engine: closed form, gyro stabilizer and arm swing (s = 0.8)
-    "paper-m": {"generator": "analytic", "feedback": False, "stabilizer": "gyro", "arm_swing": 0.8},
-    "preview": {"generator": "preview", "feedback": True, "stabilizer": None},
-    "mpc": {"generator": "mpc", "feedback": True, "stabilizer": None},
-    "mpc-steps": {"generator": "mpc-steps", "feedback": True, "stabilizer": None},
+    "paper-m": controller_config("paper-m").walk_kwargs(),
+    "preview": controller_config("preview").walk_kwargs(),
+    "mpc": controller_config("mpc").walk_kwargs(),
+    "mpc-steps": controller_config("mpc-steps").walk_kwargs(),
     # the QP alone, without the capture-point term (FootstepMpcGenerator.dcm_step_gain)
     "mpc-steps-qp-only": {
-        "generator": "mpc-steps",
-        "feedback": True,
-        "stabilizer": None,
+        **controller_config("mpc-steps").walk_kwargs(),
         "generator_options": {"dcm_step_gain": 0.0},
     },
 }

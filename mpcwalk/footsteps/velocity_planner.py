@@ -54,6 +54,10 @@ class VelocityCommand:
             object.__setattr__(self, name, value)
 
 
+#: Forward speed [m/s] of a walk given no command (paper M's experiments).
+DEFAULT_FORWARD_SPEED = 0.1
+
+
 def integrate_torso(
     command: VelocityCommand, start, nb_samples: int, sampling_period: float
 ) -> np.ndarray:
@@ -114,6 +118,15 @@ class VelocityPlanner:
         self.limits = limits
         self.timing = timing
         self.rectangle = limits.rectangle()
+
+    def default_command(self) -> VelocityCommand:
+        """The command of a walk given none: forward at paper M's 0.1 m/s, or at the legs'
+        reach per step when the steps are slower (paper A's 12 s steps)."""
+        return VelocityCommand(
+            min(DEFAULT_FORWARD_SPEED, self.limits.max_step_forward / self.timing.step_duration),
+            0.0,
+            0.0,
+        )
 
     def check_command(self, command: VelocityCommand) -> None:
         """Raise InfeasibleCommand when the command exceeds the legs' reach.

@@ -60,6 +60,7 @@ class MpcGenerator(RecedingHorizonGenerator):
     #: one up to 0.31 N s (0.25 N s), and paper M's two pushes are walked through with 0.02
     #: but not with 0.05; larger shares make the servo references follow the robot's sag.
     observer_gain: ClassVar[float] = 0.02
+    follows_new_footsteps: ClassVar[bool] = True
     #: Defaults: 1.6 s horizon sampled at 0.05 s, jerk/ZMP weight ratio 1e-7.
     #: Measured on 20-step walks at paper M's timing (double support of
     #: 2 x 0.05 s): sampling at 0.1 s (ratio 1e-6) lets the executed ZMP leave

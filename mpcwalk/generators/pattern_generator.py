@@ -112,6 +112,17 @@ class PatternGenerator(ABC):
     #: Share of the measured CoM error a :class:`~mpcwalk.control.controller.WalkingController` feeds
     #: back into this generator by default (its ``observer_gain``; closed forms ignore it).
     observer_gain: ClassVar[float] = 0.05
+    #: Whether the generator reads the schedule at every tick, so that the controller may turn
+    #: the footsteps still to come (:class:`~mpcwalk.control.heading_hold.HeadingHold`).
+    follows_new_footsteps: ClassVar[bool] = False
+    #: ``(step duration [s], double support ratio)`` this generator walks with when the caller
+    #: gives none, or None: the robot preset's (the dynamic gaits walk at any robot's timing).
+    default_timing: ClassVar[tuple[float, float] | None] = None
+
+    @classmethod
+    def check_timing(cls, schedule: ContactSchedule, lipm: LIPM) -> None:
+        """Refuse, before any walk, a schedule whose timing this generator cannot realise
+        (raises ConfigurationError saying the fastest feasible timing); accepts any here."""
 
     @classmethod
     def robot_options(cls, *, gait: GaitDefaults, leg_limits: LegLimits) -> dict[str, Any]:

@@ -174,6 +174,7 @@ class PreviewGenerator(PatternGenerator):
     """
 
     name = "preview"
+    follows_new_footsteps = True
 
     def __init__(
         self,

@@ -19,11 +19,14 @@ This is quasi-static only when the double support is long: the ZMP is
 limit at speed (paper A walks with 12 s steps), reproduced here on purpose.
 """
 
+from typing import ClassVar
+
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators.pattern_generator import GeneratorOutput, Horizon, PatternGenerator
+from mpcwalk.generators.static_timing import check_static_timing
 from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
 
@@ -67,6 +70,14 @@ class StaticGenerator(PatternGenerator):
     """
 
     name = "static"
+    #: Paper A's timing: 12 s per step (r_ds 0.2: 2.4 s to move the CoM between the feet).
+    default_timing: ClassVar[tuple[float, float] | None] = (12.0, 0.2)
+
+    @classmethod
+    def check_timing(cls, schedule: ContactSchedule, lipm: LIPM) -> None:
+        """Refuse a double support too short for the CoM shifts (see
+        :mod:`mpcwalk.generators.static_timing`)."""
+        check_static_timing(schedule, lipm, cls.name)
 
     def __init__(
         self,

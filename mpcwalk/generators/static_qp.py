@@ -16,7 +16,10 @@ infeasible.
 
 from typing import ClassVar
 
+from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators.mpc import MpcGenerator
+from mpcwalk.generators.static_timing import check_static_timing
+from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp.parameters import MpcParameters
 
 
@@ -38,6 +41,15 @@ class StaticQPGenerator(MpcGenerator):
     """
 
     name: ClassVar[str] = "static-qp"
+    #: Paper A's timing: 12 s per step (r_ds 0.2: 2.4 s to move the CoM between the feet).
+    default_timing: ClassVar[tuple[float, float] | None] = (12.0, 0.2)
+
+    @classmethod
+    def check_timing(cls, schedule: ContactSchedule, lipm: LIPM) -> None:
+        """Refuse a double support too short for the CoM shifts (see
+        :mod:`mpcwalk.generators.static_timing`)."""
+        check_static_timing(schedule, lipm, cls.name)
+
     #: Quasi-static: the CoM velocity is damped towards zero.
     track_walking_velocity: ClassVar[bool] = False
     #: The controllers' default before the MPCs' share was lowered to 0.02 (not measured

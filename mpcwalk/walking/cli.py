@@ -35,7 +35,15 @@ def add_walk_parser(sub) -> argparse.ArgumentParser:
     )
     p.add_argument("--robot", default="bioloid-like", help="robot name (list: mpcwalk robots)")
     p.add_argument(
-        "--generator", default="mpc", help="pattern generator (list: mpcwalk generators)"
+        "--controller",
+        default=None,
+        help="a named controller configuration (list: mpcwalk controllers), e.g. paper-m, "
+        "paper-a, mpc; it sets the generator, feedback, stabilizer, arm swing and re-aiming",
+    )
+    p.add_argument(
+        "--generator",
+        default=None,
+        help="pattern generator, without --controller (list: mpcwalk generators) (default: mpc)",
     )
     p.add_argument("--vx", type=float, default=None, help="forward velocity [m/s] (default: 0.1)")
     p.add_argument("--vy", type=float, default=None, help="lateral velocity [m/s] (default: 0)")
@@ -169,14 +177,16 @@ def run_walk_command(args) -> int:
     if args.path is None:
         command = tuple(0.0 if v is None else v for v in velocity)
         if all(v is None for v in velocity):
-            command = (0.1, 0.0, 0.0)
+            command = None  # the planner's default: 0.1 m/s, or the legs' reach at slow steps
     pushes = [parse_push(text) for text in args.push]
     world = world_options(args)
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
+    by_hand = _by_hand(args)
     result = run_walk(
         args.robot,
         args.generator,
+        controller=args.controller,
         command=command,
         path=args.path,
         nb_steps=args.steps,
@@ -188,11 +198,11 @@ def run_walk_command(args) -> int:
         pushes=pushes,
         video=out / "walk.mp4" if args.video else None,
         progress=not args.no_progress,
-        feedback=not args.no_feedback,
-        stabilizer=_stabilizer(args),
+        feedback=by_hand.get("feedback"),
+        stabilizer=by_hand.get("stabilizer"),
         generator_options=None if args.solver is None else {"solver": args.solver},
-        controller_options={"swing_profile": _swing_profile(args)},
-        arm_swing=args.arm_swing,
+        controller_options=by_hand.get("controller_options"),
+        arm_swing=by_hand.get("arm_swing"),
         yaw_reference=bool(pushes),
         **world,
     )
@@ -217,6 +227,35 @@ def run_walk_command(args) -> int:
     print(summary(result))
     print("wrote " + ", ".join(str(path) for path in written))
     return 1 if result.metrics.fell else 0
+
+
+def _by_hand(args) -> dict:
+    """The parts given by hand (all of them without --controller; with it, none may be)."""
+    if args.controller is None:
+        return {
+            "feedback": not args.no_feedback,
+            "stabilizer": _stabilizer(args),
+            "controller_options": {"swing_profile": _swing_profile(args)},
+            "arm_swing": args.arm_swing,
+        }
+    given = [
+        option
+        for option, value in (
+            ("--generator", args.generator),
+            ("--no-feedback", args.no_feedback or None),
+            ("--stabilizer", None if args.stabilizer == "none" else args.stabilizer),
+            ("--arm-swing", args.arm_swing or None),
+            ("--reaim/--no-reaim", args.reaim),
+            ("--swing-profile", args.swing_profile),
+        )
+        if value is not None
+    ]
+    if given:
+        raise ConfigurationError(
+            f"--controller {args.controller} sets its own parts; drop {', '.join(given)}, or "
+            "compose the controller by hand with --generator and those options."
+        )
+    return {}
 
 
 def _swing_profile(args) -> str:

@@ -11,7 +11,7 @@ from mpcwalk.footsteps.leg_limits import LegLimits
 from mpcwalk.footsteps.velocity_planner import VelocityCommand, VelocityPlanner
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.support_margins import support_margins
-from mpcwalk.generators import make_generator, rollout
+from mpcwalk.generators import generator_class, make_generator, rollout
 from mpcwalk.generators.rollout import Rollout
 from mpcwalk.models.lipm import LIPM
 
@@ -41,11 +41,11 @@ class WalkPlan:
 
 def plan_walk(
     generator: str,
-    command: VelocityCommand,
+    command: VelocityCommand | None,
     nb_steps: int,
     *,
     lipm: LIPM = LIPM(),
-    timing: StepTiming = StepTiming(),
+    timing: StepTiming | None = None,
     foot: FootGeometry = FootGeometry(),
     limits: LegLimits | None = None,
     control_period: float = 0.01,
@@ -55,12 +55,14 @@ def plan_walk(
 
     Args:
         generator: Generator name (see :func:`mpcwalk.generators.generator_names`).
-        command: Velocity command (vx, vy, vyaw) in the robot frame.
+        command: Velocity command (vx, vy, vyaw) in the robot frame (None: the planner's
+            default, 0.1 m/s forward or the legs' reach per step at slow timings).
         nb_steps: Steps that follow the command; the planner adds a closing step that puts
             the feet side by side (``metrics["closing_steps"]``, counted in
             ``metrics["steps_planned"]``).
         lipm: Pendulum model.
-        timing: Step timing.
+        timing: Step timing (default: the generator's own, e.g. paper A's 12 s for the static
+            gaits, else paper M's 0.5 s and r_ds 0.2).
         foot: Sole size (support polygons).
         limits: Leg reach limits of the footstep planner (default: small humanoid).
         control_period: Generator tick, in [s].
@@ -69,9 +71,15 @@ def plan_walk(
     Returns:
         The plan, trajectory and metrics.
     """
+    if timing is None:
+        own = generator_class(generator).default_timing
+        timing = StepTiming() if own is None else StepTiming(own[0], own[1])
     planner = VelocityPlanner(limits if limits is not None else LegLimits(), timing)
+    if command is None:
+        command = planner.default_command()
     plan = planner.plan(command, nb_steps)
     schedule = ContactSchedule(plan, foot)
+    generator_class(generator).check_timing(schedule, lipm)
     gen = make_generator(
         generator, lipm=lipm, control_period=control_period, **(generator_options or {})
     )

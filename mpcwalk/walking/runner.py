@@ -39,11 +39,14 @@ from mpcwalk.footsteps.velocity_planner import (
     as_velocity_command,
 )
 from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.generators import generator_class
+from mpcwalk.models.lipm import LIPM
 from mpcwalk.robot import Robot, load_robot
 from mpcwalk.sim import ExternalForce, FallDetector, Simulation
 from mpcwalk.sim.perturbation import Perturbation
 from mpcwalk.sim.sensor_model import SensorModel
 from mpcwalk.walking.control_loop import ControlLoop
+from mpcwalk.walking.controller_resolution import default_timing, resolve_controller
 from mpcwalk.walking.metrics import compute_walk_metrics, yaw_deviation_deg
 from mpcwalk.walking.result import WalkConfig, WalkResult
 from mpcwalk.walking.world_options import WorldOptions
@@ -98,13 +101,14 @@ def plan_walk_footsteps(
         InfeasibleCommand: The command exceeds the robot's leg limits.
         FootstepFileError: The path file is malformed.
     """
-    if (command is None) == (path is None):
+    if command is not None and path is not None:
         raise ConfigurationError(
-            "A walk needs either a velocity command (vx, vy, vyaw) or a .mdat path file, "
-            "not both and not neither."
+            "A walk needs either a velocity command (vx, vy, vyaw) or a .mdat path file, not both."
         )
     left, right = robot.initial_feet()
     limits = robot.leg_limits
+    if command is None and path is None:
+        command = VelocityPlanner(limits, timing).default_command()
     if command is not None:
         if nb_steps is None:
             raise ConfigurationError(
@@ -124,8 +128,9 @@ def plan_walk_footsteps(
 
 def run_walk(
     robot_name: str | Robot,
-    generator: str = "mpc",
+    generator: str | None = None,
     *,
+    controller: str | None = None,
     command: VelocityCommand | Sequence[float] | None = None,
     path: str | Path | None = None,
     nb_steps: int | None = None,
@@ -137,12 +142,12 @@ def run_walk(
     pushes: Sequence[ExternalForce] = (),
     video: str | Path | None = None,
     progress: bool = False,
-    feedback: bool = True,
+    feedback: bool | None = None,
     generator_options: dict | None = None,
     controller_options: dict | None = None,
     fall_detector: FallDetector | None = None,
     stabilizer=None,
-    arm_swing: float = 0.0,
+    arm_swing: float | None = None,
     yaw_reference: bool = False,
     noise_scale: float = 1.0,
     latency: float | None = None,
@@ -160,20 +165,25 @@ def run_walk(
     Args:
         robot_name: Robot name (see ``mpcwalk robots``) or a loaded :class:`Robot` (load it
             with its meshes for a video).
-        generator: Pattern generator name (see ``mpcwalk generators``).
+        generator: Pattern generator name (see ``mpcwalk generators``; default ``"mpc"``).
+        controller: A named controller configuration (see ``mpcwalk controllers``:
+            ``paper-m``, ``paper-m-open``, ``paper-a``, ``mpc``...): its generator, feedback,
+            stabilizer, arm swing, re-aiming and swing profile; then ``generator``,
+            ``feedback``, ``stabilizer`` and ``arm_swing`` must not be given.
         command: Velocity command ``(vx, vy, vyaw)`` in [m/s, m/s, rad/s].
         path: ``.mdat`` path file instead of a command.
         nb_steps: Number of steps (command: a closing step is added).
         duration: Walking time [s] instead of ``nb_steps``: ``round(duration / T)`` steps.
             The walk also stands still for 1 s before and after.
-        step_duration: Step duration T [s] (default: the preset's, else 0.5 s).
-        double_support_ratio: r_ds (default: the preset's, else 0.2).
+        step_duration: Step duration T [s] (default: the generator's own timing if it has
+            one, e.g. paper A's 12 s for the static gaits, else the preset's, else 0.5 s).
+        double_support_ratio: r_ds (default: the generator's, else the preset's, else 0.2).
         step_height: Swing-foot height [m] (default: the preset's, else 0.04 m).
         control_period: Controller tick [s], a multiple of the physics step.
         pushes: External forces on the robot during the walk.
         video: MP4 file to render the walk into (offscreen), or None.
         progress: Show a progress bar (off: a library is quiet).
-        feedback: Close the loop on the estimated CoM (see the controller).
+        feedback: Close the loop on the estimated CoM (see the controller; default: on).
         generator_options: Keyword arguments of the generator (override the preset's).
         controller_options: Keyword arguments of the controller (override the preset's).
         fall_detector: Fall detector (default: ``FallDetector.for_robot``).
@@ -225,14 +235,21 @@ def run_walk(
         if isinstance(robot_name, Robot)
         else load_robot(robot_name, visual=video is not None)
     )
-    gait = robot.gait
-    period = float(gait.step_duration if step_duration is None else step_duration)
-    timing = StepTiming(
-        step_duration=period,
-        double_support_ratio=float(
-            gait.double_support_ratio if double_support_ratio is None else double_support_ratio
-        ),
+    parts = resolve_controller(
+        controller,
+        generator=generator,
+        feedback=feedback,
+        stabilizer=stabilizer,
+        arm_swing=arm_swing,
+        generator_options=generator_options,
+        controller_options=controller_options,
     )
+    generator, feedback, stabilizer = parts.generator, parts.feedback, parts.stabilizer
+    arm_swing, generator_options = parts.arm_swing, parts.generator_options
+    controller_options = parts.controller_options
+    gait = robot.gait
+    timing = default_timing(generator, gait, step_duration, double_support_ratio)
+    period = timing.step_duration
     if nb_steps is None and duration is not None:
         if not (math.isfinite(duration) and duration > 0.0):
             raise ConfigurationError(
@@ -241,6 +258,7 @@ def run_walk(
         nb_steps = max(1, int(round(duration / period)))
     plan = plan_walk_footsteps(robot, command=command, path=path, nb_steps=nb_steps, timing=timing)
     schedule = ContactSchedule(plan, FootGeometry(*robot.sole_size))
+    generator_class(generator).check_timing(schedule, LIPM(com_height=robot.com_height))
     options = {
         key: value
         for key, value in (("dcm_gain", gait.dcm_gain), ("observer_gain", gait.observer_gain))
@@ -255,7 +273,7 @@ def run_walk(
         options["arm_swing"] = arm_swing
     if stabilizer is not None:
         options["stabilizer"] = stabilizer
-    controller = WalkingController.for_robot(
+    walker = WalkingController.for_robot(
         robot,
         generator,
         schedule,
@@ -283,17 +301,19 @@ def run_walk(
         else None
     )
     detector = fall_detector or FallDetector.for_robot(robot)
-    outcome = ControlLoop(robot, controller, simulation, estimator, detector).run(
+    outcome = ControlLoop(robot, walker, simulation, estimator, detector).run(
         video=video, progress=progress, label=f"{robot.name} {generator}"
     )
     log, fall = outcome.log, outcome.fall
-    schedule = controller.schedule  # with the footsteps a footstep-adaptive generator moved
+    if walker.heading_hold is None:  # with the footsteps a footstep-adaptive generator moved
+        schedule = walker.schedule
+    # else the plan as commanded: the heading hold turned the footsteps to reach it
     metrics = compute_walk_metrics(
         log,
         schedule,
         fall=fall,
         wall_time=outcome.wall_time,
-        nb_generator_failures=controller.nb_generator_failures,
+        nb_generator_failures=walker.nb_generator_failures,
         closing_steps=1 if command is not None and plan.nb_steps else 0,
         state_source=world.state,
     )
@@ -306,14 +326,14 @@ def run_walk(
         nb_steps=nb_steps,
         step_duration_s=timing.step_duration,
         double_support_ratio=timing.double_support_ratio,
-        step_height_m=controller.trajectory.step_height,
+        step_height_m=walker.trajectory.step_height,
         com_height_m=robot.com_height,
         control_period_s=control_period,
         stabilizer=getattr(stabilizer, "name", "none"),
-        balance=controller.balance is not None,
+        balance=walker.balance is not None,
         feedback=feedback,
-        dcm_gain=controller.dcm_feedback.dcm_gain,
-        observer_gain=controller.dcm_feedback.observer_gain,
+        dcm_gain=walker.dcm_feedback.dcm_gain,
+        observer_gain=walker.dcm_feedback.observer_gain,
         pushes=tuple((p.start, p.duration, *map(float, p.force)) for p in pushes),
         arm_swing=float(arm_swing),
         **world.to_config(robot, control_period),

@@ -80,6 +80,9 @@ class Stabilizer:
     """Base class of the controller's stabilizer hook (identity corrections)."""
 
     name = "none"
+    #: Whether it re-aims the footsteps at the plan's headings itself (then the controller's
+    #: heading hold stays off).
+    holds_heading = False
 
     def reset(self, inputs: StabilizerInput) -> None:
         """Forget the state of a previous walk; ``inputs`` are the references at the start
@@ -106,6 +109,7 @@ class StabilizerChain(Stabilizer):
     def __init__(self, stabilizers: Sequence[Stabilizer]) -> None:
         self.stabilizers = tuple(stabilizers)
         self.name = "+".join(s.name for s in self.stabilizers) or "none"
+        self.holds_heading = any(s.holds_heading for s in self.stabilizers)
 
     def reset(self, inputs: StabilizerInput) -> None:
         for stabilizer in self.stabilizers:

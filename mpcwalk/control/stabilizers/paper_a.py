@@ -63,7 +63,8 @@ class PaperAStateMachine(Stabilizer):
     """Paper A's state machine and per-step re-aiming from the measured feet.
 
     Args:
-        rectangle: Reachability rectangle of the landings around the support foot.
+        rectangle: Reachability rectangle of the landings around the support foot (None: the
+            robot's own, from its leg limits, taken at :meth:`reset`).
         yaw_source: ``"imu"`` (paper A: the support foot's yaw is the estimated base yaw, from
             the IMU, plus the reference offset between the base and the support foot) or
             ``"sole"`` (the estimated sole yaw).
@@ -74,14 +75,19 @@ class PaperAStateMachine(Stabilizer):
 
     def __init__(
         self,
-        rectangle: ReachabilityRectangle = ATLAS_REACHABILITY,
+        rectangle: ReachabilityRectangle | None = None,
         *,
         yaw_source: str = "imu",
         reaim: bool = True,
     ) -> None:
         if yaw_source not in ("imu", "sole"):
             raise ConfigurationError(f"yaw_source must be 'imu' or 'sole', got {yaw_source!r}.")
-        self.rectangle = rectangle
+        self.holds_heading = bool(reaim)
+        self._rectangle = rectangle
+        self.rectangle: ReachabilityRectangle = (
+            rectangle if rectangle is not None else ATLAS_REACHABILITY
+        )
+        """The rectangle in use: the given one, else the robot's from :meth:`reset`."""
         self.yaw_source = yaw_source
         self.reaim = bool(reaim)
         self.schedule: ContactSchedule | None = None
@@ -102,6 +108,8 @@ class PaperAStateMachine(Stabilizer):
     def reset(self, inputs: StabilizerInput) -> None:
         """Start over at ``BEGIN`` on the schedule of ``inputs``."""
         self.schedule = inputs.schedule
+        if self._rectangle is None:
+            self.rectangle = inputs.robot.leg_limits.rectangle()
         self._reset_state()
 
     def state_at(self, t: float) -> GaitState:

@@ -1,0 +1,168 @@
+"""The papers' engines walk as published, named controllers, default timings, the robot's own
+reachability and the heading held over long walks."""
+
+import math
+from pathlib import Path
+
+import pytest
+from conftest import get_robot
+
+from mpcwalk.cli import main as cli_main
+from mpcwalk.control.stabilizers.paper_a import PaperAStateMachine
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.footsteps.footstep import StepTiming
+from mpcwalk.sim import parse_push
+from mpcwalk.walking.controllers import CONTROLLERS, controller_config
+from mpcwalk.walking.planning import plan_walk
+from mpcwalk.walking.runner import run_walk
+
+ROOT = Path(__file__).resolve().parent.parent
+PATHS = ROOT / "experiments" / "paper_a"
+F1_F2 = ["0,0.1,0,5,0", "3.0,0.05,10,5,0"]  # paper M Fig. 2: (0, 5, 0) N at rest, (10, 5, 0) N
+
+
+def test_controllers_are_listed_and_named(capsys):
+    assert cli_main(["controllers"]) == 0
+    out = capsys.readouterr().out
+    for name in ("paper-m", "paper-m-open", "paper-a", "preview", "mpc", "mpc-steps", "static-qp"):
+        assert name in CONTROLLERS and f"{name} " in out
+    paper_m = controller_config("paper-m")
+    assert (paper_m.generator, paper_m.feedback, paper_m.stabilizer, paper_m.arm_swing) == (
+        "analytic",
+        False,
+        "gyro",
+        0.8,
+    )
+    with pytest.raises(ConfigurationError, match="Unknown controller 'paper-x'.*paper-m"):
+        controller_config("paper-x")
+
+
+def test_a_controller_and_its_parts_by_hand_are_refused(tmp_path, capsys):
+    args = ["walk", "--controller", "paper-m", "--generator", "mpc", "--steps", "2"]
+    assert cli_main([*args, "--out", str(tmp_path / "w")]) == 2
+    assert "--controller paper-m sets its own parts; drop --generator" in capsys.readouterr().err
+    assert not (tmp_path / "w" / "metrics.json").exists()
+    with pytest.raises(ConfigurationError, match="sets its own stabilizer"):
+        run_walk("bioloid-like", controller="mpc", stabilizer="gyro", nb_steps=2)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "command, kwargs",
+    [
+        pytest.param((0.1, 0.0, math.pi / 9.0), {"duration": 10.0}, id="turning-fig1"),
+        pytest.param((0.1, 0.0, 0.0), {"nb_steps": 20}, id="straight-20-steps"),
+    ],
+)
+def test_paper_m_open_loop_walks_as_published(command, kwargs):
+    """Paper M's closed form alone (stabilizer off), on the default sensors."""
+    result = run_walk(
+        get_robot("bioloid-like"), controller="paper-m-open", command=command, **kwargs
+    )
+    m = result.metrics
+    assert result.config.state_source == "estimator" and result.config.noise_scale == 1.0
+    assert not m.fell, m.fall_reason
+    assert m.steps_completed == m.steps_planned == 21
+    assert abs(m.yaw_change_deg - m.yaw_change_planned_deg) < 0.05 * 200.0 + 1.0
+
+
+@pytest.mark.slow
+def test_paper_m_engine_survives_f1_and_f2():
+    result = run_walk(
+        get_robot("bioloid-like"),
+        controller="paper-m",
+        command=(0.1, 0.0, 0.0),
+        duration=5.0,
+        pushes=[parse_push(text) for text in F1_F2],
+    )
+    assert not result.metrics.fell, result.metrics.fall_reason
+    assert result.config.stabilizer == "gyro" and result.config.arm_swing == 0.8
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", ["straight.mdat", "turning.mdat"])
+def test_paper_a_walks_its_paths_with_no_timing_option(path):
+    """Paper A's gait on atlas-like at its own timing (12 s per step); the first 4 steps."""
+    result = run_walk(get_robot("atlas-like"), controller="paper-a", path=PATHS / path, nb_steps=4)
+    m = result.metrics
+    assert result.config.step_duration_s == 12.0
+    assert not m.fell, m.fall_reason
+    assert m.steps_completed == m.steps_planned == 4
+    assert m.foot_position_error_cm_max < 5.0  # paper A: 4.96 cm max
+
+
+@pytest.mark.parametrize("generator", ["static", "static-qp"])
+def test_static_plans_with_default_options_stay_in_the_support_polygon(generator, tmp_path):
+    assert cli_main(["plan", "--generator", generator, "--out", str(tmp_path)]) == 0
+    result = plan_walk(generator, None, 6)
+    assert result.metrics["step_duration_s"] == 12.0
+    assert result.metrics["zmp_margin_min_m"] > 0.0
+    assert result.metrics["com_margin_min_m"] > 0.0
+    assert result.metrics["qp_failures"] == 0
+
+
+@pytest.mark.parametrize("generator", ["static", "static-qp"])
+def test_infeasible_static_timing_is_refused_with_the_fastest_feasible_one(generator, tmp_path):
+    with pytest.raises(ConfigurationError, match=r"fastest feasible timing is a step duration"):
+        plan_walk(generator, None, 6, timing=StepTiming(1.0, 0.2))
+    out = tmp_path / "walk"
+    code = cli_main(
+        ["walk", "--robot", "atlas-like", "--generator", generator, "--step-duration", "1"]
+        + ["--steps", "4", "--no-progress", "--out", str(out)]
+    )
+    assert code == 2 and not (out / "metrics.json").exists()
+    # the fastest timing the message gives plans with the ZMP on the soles
+    with pytest.raises(ConfigurationError) as refused:
+        plan_walk(generator, None, 6, timing=StepTiming(1.0, 0.5))
+    fastest = float(str(refused.value).split("step duration of ")[1].split(" s")[0])
+    result = plan_walk(generator, None, 6, timing=StepTiming(fastest, 0.5))
+    assert result.metrics["zmp_margin_min_m"] > 0.0
+
+
+def _bioloid_path(tmp_path) -> Path:
+    """A straight path for bioloid-like: feet 0.08 m apart, 8 steps of 0.04 to 0.08 m."""
+    rows = [(0.0, 0.0)] * 2 + [(0.04, 0.0), (0.04, 0.08), (0.12, 0.08), (0.12, 0.16)]
+    rows += [(0.2, 0.16), (0.2, 0.24), (0.28, 0.24), (0.28, 0.28)]
+    lines = [f"{xl} 0.04 0 1 0 0 0 {xr} -0.04 0 1 0 0 0" for xl, xr in rows]
+    path = tmp_path / "bioloid_straight.mdat"
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.mark.slow
+def test_path_reaims_with_the_robots_own_reachability(tmp_path):
+    robot = get_robot("bioloid-like")
+    result = run_walk(robot, "mpc", path=_bioloid_path(tmp_path), stabilizer=PaperAStateMachine())
+    m = result.metrics
+    assert not m.fell and m.steps_completed == m.steps_planned == 8
+    assert m.foot_position_error_cm_max < 1.0  # 10.4 cm with Atlas's rectangle
+    assert abs(m.yaw_change_deg) < 2.0
+
+
+def test_state_machine_takes_the_robots_rectangle_at_reset():
+    from stabilizer_inputs import stabilizer_input  # the suite's hand-built inputs
+
+    from mpcwalk.footsteps.footstep import FootGeometry
+    from mpcwalk.footsteps.velocity_planner import VelocityCommand
+    from mpcwalk.gait.contact_schedule import ContactSchedule
+    from mpcwalk.walking.runner import plan_walk_footsteps
+
+    for name in ("bioloid-like", "atlas-like"):
+        robot = get_robot(name)
+        plan = plan_walk_footsteps(robot, command=VelocityCommand(0.05, 0.0, 0.0), nb_steps=2)
+        schedule = ContactSchedule(plan, FootGeometry(*robot.sole_size))
+        machine = PaperAStateMachine()
+        machine.reset(stabilizer_input(robot, schedule, t=0.0))
+        assert machine.rectangle == robot.leg_limits.rectangle()
+
+
+@pytest.mark.slow
+def test_long_turning_walk_holds_the_commanded_yaw():
+    """120 s at 0.3 rad/s: 6.5 % short of the command without the heading hold."""
+    result = run_walk(get_robot("bioloid-like"), "mpc", command=(0.1, 0.0, 0.3), duration=120.0)
+    m = result.metrics
+    assert not m.fell
+    commanded = math.degrees(0.3) * m.walking_time_planned_s * 240 / 241  # the closing step
+    assert m.yaw_change_planned_deg == pytest.approx(commanded, rel=0.01)
+    assert abs(m.yaw_change_deg - m.yaw_change_planned_deg) < 0.01 * m.yaw_change_planned_deg
+    assert m.foot_step_error_cm_max < 1.0
