@@ -165,7 +165,9 @@ def test_real_push_case_on_the_analytic_gait():
         {**walk, "pushes": [ExternalForce(start, 0.1, config.push_force(90.0, 3.0))]},
     )
     assert huge.fall.fell and huge.fall.time < start + 1.0
-    result = push_case_task("bioloid-like", kwargs, config, SweepCase("paper-m-open", 90.0, "ss-mid"))
+    result = push_case_task(
+        "bioloid-like", kwargs, config, SweepCase("paper-m-open", 90.0, "ss-mid")
+    )
     assert 0.0 <= result.largest_survived < result.smallest_fallen <= 3.0
     for impulse, survived in result.trials:
         assert survived == (impulse <= result.largest_survived)
