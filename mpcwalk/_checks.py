@@ -27,3 +27,40 @@ def as_float_array(value) -> np.ndarray:
         return np.asarray(value, dtype=float)
     except (TypeError, ValueError):
         return np.full(0, np.nan)
+
+
+def checked_number(
+    name: str,
+    value,
+    *,
+    low: float | None = None,
+    high: float | None = None,
+    low_inclusive: bool = True,
+    unit: str = "",
+    fix: str = "",
+) -> float:
+    """``value`` as a float when it is a real number within ``[low, high]`` (``(low,
+    high]`` without ``low_inclusive``); else a ConfigurationError that says what was expected,
+    what came and ``fix``. Strings and booleans are refused, not coerced."""
+    from mpcwalk.exceptions import ConfigurationError
+
+    unit_text = f" {unit}" if unit else ""
+    if low is not None and high is not None:
+        bracket = "[" if low_inclusive else "("
+        expected = f"a number in {bracket}{low:g}, {high:g}]{unit_text}"
+    elif low is not None:
+        expected = f"a number {'>=' if low_inclusive else '>'} {low:g}{unit_text}"
+    elif high is not None:
+        expected = f"a number <= {high:g}{unit_text}"
+    else:
+        expected = f"a finite number{unit_text}"
+    ok = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(
+        value, (bool, np.bool_)
+    )
+    number = float(value) if ok else float("nan")
+    if ok and np.isfinite(number):
+        above = low is None or (number >= low if low_inclusive else number > low)
+        if above and (high is None or number <= high):
+            return number
+    suffix = f"; {fix}" if fix else ""
+    raise ConfigurationError(f"{name} must be {expected}, got {value!r}{suffix}.")

@@ -2,18 +2,26 @@
 ``mpcwalk robots``."""
 
 import argparse
-import json
+import os
+import re
 import sys
+import traceback
 from pathlib import Path
 
 from mpcwalk.exceptions import ConfigurationError, MpcwalkError
+from mpcwalk.walking.outputs import out_path
 
 _DESCRIPTION = (
     "Optimization-based walking of humanoid robots: plan a walk on the LIPM (plan), list the "
-    "pattern generators (generators), the named controllers (controllers) and the robots (robots), simulate a robot walking in "
-    "MuJoCo (walk), run the benchmarks (bench). Exit status: 0 on success, 1 when a "
-    "simulated robot fell, 2 on bad input."
+    "pattern generators (generators), the named controllers (controllers) and the robots "
+    "(robots), simulate a robot walking in MuJoCo (walk), run the benchmarks (bench). Exit "
+    "status: 0 success, 1 the simulated robot fell, 2 bad input (nothing ran), 3 the "
+    "controller stopped the walk (faults beyond its bound), 4 internal error (traceback saved "
+    "under --out; --debug prints it), 130 interrupted (partial results written)."
 )
+
+#: Options whose value may be a negative number ("--vx -1e-2" is read as "--vx=-1e-2").
+_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
 
 class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
@@ -83,22 +91,28 @@ def _add_plan_parser(sub) -> None:
         help="QP solver of the QP generators (osqp-direct, casadi, or a qpsolvers name; "
         "default: the generator's)",
     )
-    p.add_argument("--out", type=Path, required=True, help="output directory")
+    p.add_argument("--out", type=out_path, required=True, help="output directory")
+    p.add_argument("--overwrite", action="store_true", help="replace an earlier plan in --out")
 
 
 def _run_plan(args) -> int:
+    from mpcwalk._checks import checked_number
     from mpcwalk.footsteps.footstep import StepTiming
     from mpcwalk.footsteps.velocity_planner import VelocityCommand
     from mpcwalk.models.lipm import LIPM
     from mpcwalk.walking.cli import format_length
     from mpcwalk.walking.figures import plot_com_zmp, plot_top_view
+    from mpcwalk.walking.inputs import MAX_STEPS
+    from mpcwalk.walking.outputs import check_out_dir, write_atomic, write_json
     from mpcwalk.walking.planning import plan_walk
 
-    if args.steps < 1:
+    if not 1 <= args.steps <= MAX_STEPS:
         raise ConfigurationError(
-            f"--steps must be a positive number of steps, got {args.steps}; "
+            f"--steps must be a number of steps in [1, {MAX_STEPS}], got {args.steps}; "
             "e.g. --steps 10 plans 10 steps and the closing step."
         )
+    checked_number("--com-height", args.com_height, low=0.05, high=3.0, unit="m")
+    out = check_out_dir(args.out, overwrite=args.overwrite)
     timing = None
     if args.step_duration is not None or args.ds_ratio is not None:
         timing = StepTiming(
@@ -119,7 +133,6 @@ def _run_plan(args) -> int:
         control_period=args.control_period,
         generator_options=options,
     )
-    out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
     traj = result.rollout
     m = result.metrics
@@ -127,8 +140,8 @@ def _run_plan(args) -> int:
     c = m["command"]
     title = f"{args.generator}: v=({c['vx']:g}, {c['vy']:g}, {c['vyaw']:g}), {steps}"
     fig = plot_top_view(result.schedule, traj.times, traj.com, traj.zmp, title=title)
-    fig.savefig(out / "top_view.png", dpi=120)
-    fig = plot_com_zmp(
+    write_atomic(out / "top_view.png", lambda tmp: fig.savefig(tmp, dpi=120))
+    fig2 = plot_com_zmp(
         result.schedule,
         traj.times,
         traj.com,
@@ -136,8 +149,8 @@ def _run_plan(args) -> int:
         zmp_reference=result.zmp_reference,
         title=title,
     )
-    fig.savefig(out / "com_zmp.png", dpi=120)
-    (out / "metrics.json").write_text(json.dumps(m, indent=2) + "\n")
+    write_atomic(out / "com_zmp.png", lambda tmp: fig2.savefig(tmp, dpi=120))
+    write_json(out / "metrics.json", m)
     print(
         f"{m['generator']}: {steps} over {m['duration_s']:.2f} s, "
         f"ZMP margin min {format_length(m['zmp_margin_min_m'])}, "
@@ -201,30 +214,75 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _joined_negative_numbers(argv: list[str]) -> list[str]:
+    """``--vx -0.05`` as ``--vx=-0.05``: argparse reads a negative number as an option."""
+    out: list[str] = []
+    for token in argv:
+        if out and out[-1].startswith("--") and "=" not in out[-1] and _NUMBER.match(token):
+            out[-1] = f"{out[-1]}={token}"
+        else:
+            out.append(token)
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``mpcwalk`` command."""
+    """Entry point of the ``mpcwalk`` command (exit codes: see the description)."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in argv
+    argv = _joined_negative_numbers([token for token in argv if token != "--debug"])
+    if "--video" not in argv:
+        os.environ["MUJOCO_GL"] = "disable"  # only --video renders: no renderer needed
+    else:
+        try:
+            import mujoco  # noqa: F401  (the renderer starts with it)
+        except Exception as exc:
+            print(
+                f"mpcwalk: error: --video needs MuJoCo's renderer, which does not start "
+                f"(MUJOCO_GL={os.environ.get('MUJOCO_GL', '')!r}: {type(exc).__name__}: {exc}); "
+                "install its library (EGL or OSMesa) or choose another with MUJOCO_GL.",
+                file=sys.stderr,
+            )
+            return 2
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        if args.command == "plan":
-            return _run_plan(args)
-        if args.command == "generators":
-            return _run_generators(args)
-        if args.command == "controllers":
-            return _run_controllers(args)
-        if args.command == "bench":
-            return args.bench_func(args)
-        if args.command == "walk":
-            from mpcwalk.walking.cli import run_walk_command
-
-            return run_walk_command(args)
-        if args.command == "robots":
-            from mpcwalk.walking.cli import run_robots_command
-
-            return run_robots_command(args)
+        return _dispatch(parser, args)
     except MpcwalkError as exc:
         print(f"mpcwalk: error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("mpcwalk: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # a bug: one line and the traceback in a file, never a raw dump
+        from mpcwalk.walking.outputs import save_traceback
+
+        out = getattr(args, "out", None)
+        saved = save_traceback(Path(out) if out else None, exc)
+        where = f"; traceback saved to {saved}" if saved else ""
+        print(f"mpcwalk: internal error: {type(exc).__name__}: {exc}{where}", file=sys.stderr)
+        if debug:
+            traceback.print_exc()
+        return 4
+
+
+def _dispatch(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
+    """Run the sub-command of ``args``."""
+    if args.command == "plan":
+        return _run_plan(args)
+    if args.command == "generators":
+        return _run_generators(args)
+    if args.command == "controllers":
+        return _run_controllers(args)
+    if args.command == "bench":
+        return args.bench_func(args)
+    if args.command == "walk":
+        from mpcwalk.walking.walk_command import run_walk_command
+
+        return run_walk_command(args)
+    if args.command == "robots":
+        from mpcwalk.walking.cli import run_robots_command
+
+        return run_robots_command(args)
     parser.error(f"unknown command {args.command!r}")
     return 2
 

@@ -132,6 +132,20 @@ class NoSolutionFound(MpcwalkError):
         )
 
 
+class ControllerStopped(MpcwalkError):
+    """The controller stopped the walk: too many fallback ticks in a row (faults beyond its
+    bound, :mod:`mpcwalk.control.faults`). A controlled stop, not bad input: the walk's log
+    and metrics are written (outcome ``stopped``, exit code 3).
+
+    Attributes:
+        reason: Why, in words.
+    """
+
+    def __init__(self, reason: str) -> None:
+        self.reason = reason
+        super().__init__(f"The controller stopped the walk: {reason}.")
+
+
 class NotReset(MpcwalkError, RuntimeError):
     """A generator was stepped before :meth:`reset` gave it a schedule."""
 

@@ -65,7 +65,7 @@ def test_plan_of_static_gait_at_paper_m_timing_is_refused(tmp_path, capsys):
     [
         (["--vx", "0.5"], r"vx=0.5 m/s exceeds its limit"),
         (["--ds-ratio", "1.2"], r"double_support_ratio must lie in \[0, 1\)"),
-        (["--step-duration", "-1"], r"step_duration must be a positive number"),
+        (["--step-duration", "-1"], r"step_duration must be a number of seconds in"),
         (
             ["--generator", "mpc", "--solver", "gurobo"],
             r"Unknown solver 'gurobo'; available: ",
@@ -168,7 +168,7 @@ def test_version(capsys):
 def test_plan_refuses_zero_steps(tmp_path, capsys):
     assert main(["plan", "--steps", "0", "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("mpcwalk: error: --steps must be a positive number of steps, got 0")
+    assert err.startswith("mpcwalk: error: --steps must be a number of steps in [1, 10000], got 0")
     assert not (tmp_path / "metrics.json").exists()
 
 

@@ -28,6 +28,7 @@ import numpy as np
 from mpcwalk.control.arm_swing import ArmSwing
 from mpcwalk.control.control_output import ControlOutput
 from mpcwalk.control.dcm_feedback import DcmFeedback, measured_com_state, support_weights
+from mpcwalk.control.faults import FaultMonitor, ik_step, step_generator
 from mpcwalk.control.gait_reference import GaitReference, GaitTargets
 from mpcwalk.control.heading_hold import HeadingHold
 from mpcwalk.control.servo_feedforward import ServoFeedforward
@@ -35,10 +36,10 @@ from mpcwalk.control.stabilizers.balance import make_balance
 from mpcwalk.control.stabilizers.balance_options import BalanceOptions
 from mpcwalk.control.stabilizers.base import Stabilizer, StabilizerInput
 from mpcwalk.estimation.estimated_state import EstimatedState
-from mpcwalk.exceptions import ConfigurationError, NoSolutionFound, NotReset
+from mpcwalk.exceptions import ConfigurationError, NotReset
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.swing_foot import FeetState, SwingFootTrajectory
-from mpcwalk.generators.pattern_generator import GeneratorOutput, PatternGenerator
+from mpcwalk.generators.pattern_generator import PatternGenerator
 from mpcwalk.ik.targets import IKResult
 from mpcwalk.ik.whole_body_ik import WholeBodyIK
 from mpcwalk.models.com_state import ComState
@@ -152,7 +153,7 @@ class WalkingController:
         self.heading_hold = HeadingHold.maybe(
             schedule.plan, heading_hold, feedback, generator, stabilizer
         )
-        self.nb_generator_failures = 0  # ticks whose generator failed (or raised)
+        self.faults = FaultMonitor()  # the tick's boundary checks (mpcwalk.control.faults)
         self.q_ref: np.ndarray | None = None
         self.last_output: ControlOutput | None = None
 
@@ -179,6 +180,11 @@ class WalkingController:
             robot, control_period=control_period, **(generator_options or {})
         )
         return cls(robot, pattern, schedule, control_period=control_period, **options)
+
+    @property
+    def nb_generator_failures(self) -> int:
+        """Ticks whose generator reported a failed solve (or raised NoSolutionFound)."""
+        return self.faults.generator_failures
 
     @property
     def time(self) -> float:
@@ -232,18 +238,6 @@ class WalkingController:
             dcm_error=dcm_error,
         )
 
-    def _step_generator(
-        self, measured: ComState | None, dcm_error: np.ndarray
-    ) -> tuple[GeneratorOutput, bool]:
-        """Generator step that never raises NoSolutionFound: (output, failed)."""
-        try:
-            output = self.generator.step(measured, dcm_error=dcm_error)
-        except NoSolutionFound as error:
-            # The generator gave up after its own fallback ticks: it coasts on its last
-            # reference with zero jerk for this tick (and moves its own clock).
-            return self.generator.coast(solver=error.solver), True
-        return output, output.solve is not None and not output.solve.success
-
     def _joint_targets(
         self,
         q: np.ndarray,
@@ -291,7 +285,7 @@ class WalkingController:
                 f"shape {q.shape}."
             )
         self.q_ref = q.copy()
-        self.nb_generator_failures = 0
+        self.faults = FaultMonitor(self.faults.max_fault_ticks)
         self.heading_hold = self.heading_hold and HeadingHold(self.heading_hold.plan)
         self.reference.restart()
         self.dcm_feedback.set_schedule(self.schedule)
@@ -336,6 +330,7 @@ class WalkingController:
         if self.q_ref is None or self.last_output is None:
             raise NotReset("WalkingController.step() was called before reset(q).")
         previous = self.last_output
+        state = self.faults.measurement(state)  # non-finite: the last good estimate
         com_state = measured_com_state(state)  # raises on anything else than these types
         measured = com_state if self.feedback else None
         estimate = state if isinstance(state, EstimatedState) else None
@@ -351,9 +346,9 @@ class WalkingController:
             self.generator.schedule = turned
             self.follow_schedule(turned)
         start = time.perf_counter()
-        output, failed = self._step_generator(generator_input, dcm_error)
+        output, failed = step_generator(self.generator, generator_input, dcm_error)
         generator_tick = time.perf_counter() - start
-        self.nb_generator_failures += int(failed)
+        self.faults.generator(failed)
         if output.schedule is not None and output.schedule is not self.schedule:
             self.follow_schedule(output.schedule)
         gait = self.reference.targets(output.time, output.com)
@@ -363,9 +358,9 @@ class WalkingController:
         feet, yaw = gait.feet, gait.torso_yaw
         targets = self.reference.ik_targets(gait, output.time)
         start = time.perf_counter()
-        ik = self.ik.solve(self.q_ref, targets, self.control_period)
+        ik = ik_step(self.ik, self.q_ref, targets, self.control_period, previous.ik)
         ik_tick = time.perf_counter() - start
-        q_next = ik.q_next
+        q_next = self.faults.ik(ik.q_next, self.q_ref)  # non-finite: the reference holds
         if self.arm_swing is not None:  # a joint stage of its own after the IK
             q_next = self.arm_swing.apply(q_next, gait.com_xy, feet, yaw)
         self.q_ref = q_next
@@ -380,6 +375,8 @@ class WalkingController:
         inputs = self._stabilizer_input(output.time, gait, estimate, dcm_error)
         for stabilizer in self._stabilizers:
             joint_targets = stabilizer.adjust_joint_targets(inputs, joint_targets)
+        joint_targets = self.faults.joint_targets(joint_targets, previous.joint_targets)
+        self.faults.end_tick(output.time)  # ControllerStopped after too many in a row
         self.last_output = ControlOutput(
             time=output.time,
             q_ref=q_next.copy(),

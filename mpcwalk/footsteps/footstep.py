@@ -124,9 +124,9 @@ class StepTiming:
 
     def __post_init__(self) -> None:
         T = self.step_duration
-        if not np.isfinite(T) or T <= 0.0:
+        if isinstance(T, (bool, str)) or not np.isfinite(T) or T <= 0.0 or T > 60.0:
             raise ConfigurationError(
-                f"step_duration must be a positive number of seconds, got {T!r}; "
+                f"step_duration must be a number of seconds in (0, 60], got {T!r}; "
                 "paper M uses 0.5 s, paper A 12 s."
             )
         r = self.double_support_ratio
@@ -196,6 +196,14 @@ class FootstepPlan:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "steps", tuple(self.steps))
+        for name in ("initial_left", "initial_right"):
+            if not isinstance(getattr(self, name), Footstep):
+                raise ConfigurationError(
+                    f"FootstepPlan.{name} must be a Footstep, got {getattr(self, name)!r}; e.g. "
+                    "Footstep(Side.LEFT, (0.0, 0.04, 0.0))."
+                )
+        if any(not isinstance(step, Footstep) for step in self.steps):
+            raise ConfigurationError("FootstepPlan.steps must be Footsteps.")
         if self.initial_left.side is not Side.LEFT or self.initial_right.side is not Side.RIGHT:
             raise ConfigurationError(
                 "FootstepPlan needs initial_left on the left side and initial_right on "

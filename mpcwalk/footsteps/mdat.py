@@ -180,6 +180,10 @@ def parse_mdat(text: str, *, source: str = "<string>") -> list[PathWaypoint]:
     return waypoints
 
 
+#: Largest path file read [bytes] (1 MB: several thousand steps).
+MAX_MDAT_BYTES = 1_000_000
+
+
 def read_mdat(path_or_text: str | os.PathLike) -> list[PathWaypoint]:
     """Waypoints of a path file, or of its text.
 
@@ -196,12 +200,37 @@ def read_mdat(path_or_text: str | os.PathLike) -> list[PathWaypoint]:
     )
     if not is_file:
         return parse_mdat(str(path_or_text))
+    path = Path(path_or_text)
     try:
-        text = Path(path_or_text).read_text()
+        if path.exists() and not path.is_file():
+            raise FootstepFileError(
+                "not a regular file (a path file is a text file of 14 numbers per line).",
+                path=str(path),
+            )
+        size = path.stat().st_size
+        if size > MAX_MDAT_BYTES:
+            raise FootstepFileError(
+                f"{size} bytes, beyond the {MAX_MDAT_BYTES} bytes a path file may have "
+                f"(about {MAX_MDAT_BYTES // 150} steps); split the path.",
+                path=str(path),
+            )
+        data = path.read_bytes()
     except OSError as error:
         raise FootstepFileError(
             f"cannot read the path file: {error.strerror or error}.", path=str(path_or_text)
         ) from None
+    try:
+        text = data.decode("utf-8-sig")  # a byte-order mark is accepted
+    except UnicodeDecodeError as error:
+        raise FootstepFileError(
+            f"not UTF-8 text (byte {error.start} is 0x{data[error.start]:02x}); a path file is "
+            "a text file of 14 numbers per line.",
+            path=str(path),
+        ) from None
+    if "\x00" in text:
+        raise FootstepFileError(
+            "binary content (a NUL byte); a path file is a text file.", path=str(path)
+        )
     return parse_mdat(text, source=str(path_or_text))
 
 

@@ -41,6 +41,11 @@ class VelocityCommand:
     def __post_init__(self) -> None:
         for name in ("vx", "vy", "vyaw"):
             value = getattr(self, name)
+            if isinstance(value, (bool, np.bool_, str, bytes)):
+                raise ConfigurationError(
+                    f"Velocity command {name} must be a number [m/s or rad/s], got {value!r}; "
+                    "e.g. VelocityCommand(0.1, 0.0, 0.0)."
+                )
             try:
                 value = float(value)
             except (TypeError, ValueError):

@@ -16,6 +16,7 @@ from typing import Any, ClassVar, TypeVar
 
 import numpy as np
 
+from mpcwalk._checks import checked_number
 from mpcwalk.exceptions import ConfigurationError, NotReset
 from mpcwalk.footsteps.leg_limits import LegLimits
 from mpcwalk.gait.contact_schedule import ContactSchedule
@@ -99,6 +100,13 @@ class GeneratorOutput:
         return ComState(self.com, self.com_velocity, self.com_acceleration)
 
 
+#: Shortest control period [s] (MuJoCo's physics steps are 1 to 2 ms; below this a walk is
+#: millions of ticks).
+MIN_CONTROL_PERIOD = 1e-3
+#: Longest control period [s]: a tenth of a 0.5 s step.
+MAX_CONTROL_PERIOD = 0.05
+
+
 class PatternGenerator(ABC):
     """Base class of CoM/ZMP pattern generators.
 
@@ -139,9 +147,18 @@ class PatternGenerator(ABC):
         return cls(**{"lipm": LIPM(com_height=robot.com_height), **defaults, **options})
 
     def __init__(self, *, lipm: LIPM = LIPM(), control_period: float = 0.01) -> None:
-        if not np.isfinite(control_period) or control_period <= 0.0:
+        control_period = checked_number(
+            "control_period",
+            control_period,
+            low=MIN_CONTROL_PERIOD,
+            high=MAX_CONTROL_PERIOD,
+            unit="s",
+            fix="e.g. control_period=0.01",
+        )
+        if not isinstance(lipm, LIPM):
             raise ConfigurationError(
-                f"control_period must be a positive number of seconds, got {control_period!r}."
+                f"lipm must be a LIPM, got {type(lipm).__name__} {lipm!r}; e.g. "
+                "lipm=LIPM(com_height=0.23)."
             )
         self.lipm = lipm
         self.control_period = float(control_period)

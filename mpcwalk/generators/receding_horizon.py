@@ -14,11 +14,13 @@ output's :class:`~mpcwalk.generators.pattern_generator.SolveInfo`, for at most
 reference if the caller must go on.
 """
 
+import time
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
 
+from mpcwalk._checks import checked_number
 from mpcwalk.exceptions import ConfigurationError, NoSolutionFound
 from mpcwalk.footsteps.leg_limits import LegLimits
 from mpcwalk.gait.gait_defaults import GaitDefaults
@@ -28,6 +30,7 @@ from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp.program import Prediction, QuadraticProgram
 from mpcwalk.qp.result import QPResult
+from mpcwalk.qp.solvers.base import failure
 from mpcwalk.qp.solvers.registry import make_solver
 
 _TIME_EPS = 1e-12  # [s] times closer than this are the same instant
@@ -96,6 +99,13 @@ class RecedingHorizonGenerator(PatternGenerator):
                 f"max_fallback_ticks must be a non-negative integer, got {max_fallback_ticks!r}."
             )
         self.max_fallback_ticks = int(max_fallback_ticks)
+        sampling_period = checked_number("sampling_period", sampling_period, low=0.0, unit="s")
+        if self.control_period > sampling_period + 1e-12:
+            raise ConfigurationError(
+                f"The control period ({self.control_period:g} s) must be at most the QP's "
+                f"sampling period ({sampling_period:g} s): the generator plays the first "
+                "sampling period of each plan; use a shorter control period."
+            )
         self.solver_name = solver
         self.solver = make_solver(solver, **(solver_settings or {}))
         self.cart_table = CartTable(lipm, sampling_period)
@@ -133,7 +143,7 @@ class RecedingHorizonGenerator(PatternGenerator):
             NoSolutionFound: More than ``max_fallback_ticks`` failed solves in a row.
         """
         t, dt = self.time, self.control_period
-        result = self.solver.solve(qp, shift=shift)
+        result = self._checked_solve(qp, shift)
         self.last_result = result
         if result.success and result.x is not None:
             jerks = qp.jerks(result.x)
@@ -153,6 +163,35 @@ class RecedingHorizonGenerator(PatternGenerator):
             fallback=not result.success,
             consecutive_failures=self._failures,
         )
+
+    @property
+    def jerk_limit(self) -> float:
+        """Largest CoM jerk [m/s^3] a solution may ask for: ``omega^2 (2 m/s + 10 m /
+        sampling period)``, a ZMP jumping by ten metres between two samples (no support
+        polygon is a hundredth of that) at a CoM speed of 2 m/s. Beyond it the solution is
+        garbage (the largest jerks of the suite's pushed walks are a tenth of it)."""
+        omega2 = self.lipm.omega**2
+        return omega2 * (2.0 + 10.0 / self.cart_table.sampling_period)
+
+    def _checked_solve(self, qp: QuadraticProgram, shift: float) -> QPResult:
+        """The back-end's result, checked at the boundary: a back-end that raises, or a
+        "success" with a non-finite or absurd solution (jerks beyond :attr:`jerk_limit`, a
+        prediction that is not finite) is a failed solve, never a crash."""
+        start = time.perf_counter()
+        try:
+            result = self.solver.solve(qp, shift=shift)
+        except Exception as error:  # a back-end's failure is a failed solve
+            return failure(self.solver_name, f"raised {type(error).__name__}: {error}", 0.0)
+        if not isinstance(result, QPResult):
+            elapsed = time.perf_counter() - start
+            return failure(self.solver_name, f"returned {type(result).__name__}", elapsed)
+        if not result.success or result.x is None:
+            return result
+        problem = _implausible(qp, np.asarray(result.x), self.jerk_limit)
+        if problem is None:
+            return result
+        self.solver.reset()  # its warm start is the garbage
+        return failure(self.solver_name, f"implausible solution: {problem}", result.solve_time)
 
     def _horizon(self) -> Horizon | None:
         """Predicted trajectory of the current plan, None before the first solve."""
@@ -181,3 +220,17 @@ class RecedingHorizonGenerator(PatternGenerator):
             state = self.cart_table.integrate(state, jerks[i], step)
             t += step
         return state
+
+
+def _implausible(qp: QuadraticProgram, x: np.ndarray, jerk_limit: float) -> str | None:
+    """Why the solution ``x`` of ``qp`` cannot be used, or None."""
+    if x.ndim != 1 or not np.all(np.isfinite(x)):
+        return "not a finite vector"
+    try:
+        jerks = qp.jerks(x)
+    except (ValueError, IndexError) as error:
+        return f"wrong size ({error})"
+    largest = float(np.max(np.abs(jerks))) if jerks.size else 0.0
+    if largest > jerk_limit:
+        return f"CoM jerk {largest:.3g} m/s^3 beyond the physical bound {jerk_limit:.3g} m/s^3"
+    return None

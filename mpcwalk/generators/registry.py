@@ -7,9 +7,10 @@ subclass whose ``name`` is that key.
 """
 
 import importlib
+import inspect
 from typing import Any
 
-from mpcwalk.exceptions import GeneratorNotFound
+from mpcwalk.exceptions import ConfigurationError, GeneratorNotFound
 from mpcwalk.generators.pattern_generator import PatternGenerator
 
 #: Generator name -> (module, class). Imported on demand.
@@ -42,5 +43,27 @@ def generator_class(name: str) -> type[PatternGenerator]:
 
 
 def make_generator(name: str, **kwargs: Any) -> PatternGenerator:
-    """Instantiate a generator by name, e.g. ``make_generator("mpc", solver="osqp")``."""
-    return generator_class(name)(**kwargs)
+    """Instantiate a generator by name, e.g. ``make_generator("mpc", solver="osqp")``.
+
+    Raises:
+        GeneratorNotFound: Unknown name.
+        ConfigurationError: A keyword the generator does not take (the message lists the
+            ones it takes: a closed form has no ``solver``), or a bad value.
+    """
+    cls = generator_class(name)
+    check_options(cls, kwargs, f"generator '{name}'")
+    return cls(**kwargs)
+
+
+def check_options(cls: type, options: dict[str, Any], what: str) -> None:
+    """Refuse keywords that ``cls``'s constructor does not take, naming the valid ones."""
+    parameters = inspect.signature(cls).parameters
+    if any(p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters.values()):
+        return
+    valid = [n for n, p in parameters.items() if p.kind is not p.VAR_POSITIONAL]
+    unknown = sorted(set(options) - set(valid))
+    if unknown:
+        raise ConfigurationError(
+            f"The {what} takes no option {', '.join(map(repr, unknown))}; its options are "
+            f"{', '.join(valid)}."
+        )

@@ -8,7 +8,6 @@ when the controller walked on the estimator) and, with ``--video``, ``walk.mp4``
 """
 
 import argparse
-import json
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -16,7 +15,8 @@ import numpy as np
 
 from mpcwalk.control.stabilizers import STABILIZER_NAMES
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.walking.world_arguments import add_world_arguments, world_options
+from mpcwalk.walking.outputs import out_path
+from mpcwalk.walking.world_arguments import add_world_arguments
 
 if TYPE_CHECKING:
     from mpcwalk.walking.result import WalkResult
@@ -147,86 +147,16 @@ def add_walk_parser(sub) -> argparse.ArgumentParser:
         "--log-format", choices=("npz", "csv"), default="npz", help="format of the per-tick log"
     )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.add_argument("--out", type=Path, required=True, help="output directory")
+    p.add_argument("--out", type=out_path, required=True, help="output directory")
+    p.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace an earlier run in --out (refused otherwise)",
+    )
     p.epilog = (
         "Exit status: 0 when the robot walked the whole schedule, 1 when it fell, 2 on bad input."
     )
     return p
-
-
-def run_walk_command(args) -> int:
-    """Run ``mpcwalk walk``; bad input raises an MpcwalkError (exit code 2 in ``main``)."""
-    from mpcwalk.sim import parse_push
-    from mpcwalk.walking.figures import plot_estimator, plot_walk_over_time, plot_walk_top_view
-    from mpcwalk.walking.runner import run_walk
-
-    velocity = (args.vx, args.vy, args.vyaw)
-    if args.path is not None and any(v is not None for v in velocity):
-        raise ConfigurationError(
-            "Give either a velocity command (--vx, --vy, --vyaw) or --path FILE.mdat, not both."
-        )
-    if args.duration is not None and args.steps is not None:
-        raise ConfigurationError("Give either --duration or --steps, not both.")
-    if args.path is None and args.duration is None and args.steps is None:
-        raise ConfigurationError(
-            "A walk from a velocity command needs --duration S (walking time) or --steps N."
-        )
-    if args.steps is not None and args.steps < 1:
-        raise ConfigurationError(f"--steps must be a positive number of steps, got {args.steps}.")
-    command = None
-    if args.path is None:
-        command = tuple(0.0 if v is None else v for v in velocity)
-        if all(v is None for v in velocity):
-            command = None  # the planner's default: 0.1 m/s, or the legs' reach at slow steps
-    pushes = [parse_push(text) for text in args.push]
-    world = world_options(args)
-    out: Path = args.out
-    out.mkdir(parents=True, exist_ok=True)
-    by_hand = _by_hand(args)
-    result = run_walk(
-        args.robot,
-        args.generator,
-        controller=args.controller,
-        command=command,
-        path=args.path,
-        nb_steps=args.steps,
-        duration=args.duration,
-        step_duration=args.step_duration,
-        double_support_ratio=args.ds_ratio,
-        step_height=args.step_height,
-        control_period=args.control_period,
-        pushes=pushes,
-        video=out / "walk.mp4" if args.video else None,
-        progress=not args.no_progress,
-        feedback=by_hand.get("feedback"),
-        stabilizer=by_hand.get("stabilizer"),
-        generator_options=None if args.solver is None else {"solver": args.solver},
-        controller_options=by_hand.get("controller_options"),
-        arm_swing=by_hand.get("arm_swing"),
-        yaw_reference=bool(pushes),
-        **world,
-    )
-    written = [out / "metrics.json"]
-    (out / "metrics.json").write_text(json.dumps(result.to_dict(), indent=2) + "\n")
-    written.append(result.log.save(out / f"walk_log.{args.log_format}"))
-    what = f"v=({', '.join(f'{c:g}' for c in command)})" if command else str(args.path)
-    title = f"{result.robot}, {result.generator}: {what}, T={result.config.step_duration_s:g} s"
-    if len(result.log):
-        import matplotlib.pyplot as plt
-
-        plots = [("top_view.png", plot_walk_top_view), ("com_cop.png", plot_walk_over_time)]
-        if result.config.state_source == "estimator":
-            plots.append(("estimator.png", plot_estimator))
-        for name, plot in plots:
-            figure = plot(result.schedule, result.log, title=title)
-            figure.savefig(out / name, dpi=120)
-            written.append(out / name)
-            plt.close(figure)
-    if args.video:
-        written.append(out / "walk.mp4")
-    print(summary(result))
-    print("wrote " + ", ".join(str(path) for path in written))
-    return 1 if result.metrics.fell else 0
 
 
 def _by_hand(args) -> dict:
@@ -302,6 +232,8 @@ def summary(result: "WalkResult") -> str:
     """Two lines telling what was planned and simulated, and how the walk went."""
     m, config = result.metrics, result.config
     state = f"FELL at {m.fall_time_s:.2f} s ({m.fall_reason})" if m.fell else "no fall"
+    if m.outcome in ("stopped", "interrupted"):
+        state = f"{m.outcome.upper()} at {m.time_simulated_s:.2f} s"
     steps = f"{m.steps_planned} steps"
     if m.closing_steps:
         steps = f"{m.steps_planned - m.closing_steps} steps + {m.closing_steps} closing step"

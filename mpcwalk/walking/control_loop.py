@@ -10,14 +10,19 @@ detector only.
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from mpcwalk.control.controller import WalkingController
+from mpcwalk.control.faults import FaultMonitor
+from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.estimation.estimator import Estimator
+from mpcwalk.exceptions import ControllerStopped
 from mpcwalk.robot.robot import Robot
 from mpcwalk.sim import FallDetector, FallStatus, Simulation, SimulationUnstable
+from mpcwalk.sim.sensor_faults import SensorFaults, readings_are_finite
 from mpcwalk.walking.log import WalkLog
+from mpcwalk.walking.metrics import WalkMetrics, sanity_warnings
 
 
 @dataclass(frozen=True)
@@ -28,11 +33,15 @@ class LoopOutcome:
         log: The per-tick log.
         fall: Verdict of the fall detector at the end (or a diverged simulation).
         wall_time: Wall time of the loop [s].
+        stop_reason: Why the controller stopped the walk ("" when it did not).
+        interrupted: The loop was interrupted (SIGINT); the log is the partial walk's.
     """
 
     log: WalkLog
     fall: FallStatus
     wall_time: float
+    stop_reason: str = ""
+    interrupted: bool = False
 
 
 class ControlLoop:
@@ -44,6 +53,7 @@ class ControlLoop:
         simulation: The simulation, with its sensor model and perturbation.
         estimator: The state estimator; None gives the controller the ground truth.
         detector: The fall detector.
+        sensor_faults: Faults injected into the sensor stream (None: none).
     """
 
     def __init__(
@@ -53,20 +63,33 @@ class ControlLoop:
         simulation: Simulation,
         estimator: Estimator | None,
         detector: FallDetector,
+        sensor_faults: SensorFaults | None = None,
     ) -> None:
         self.robot = robot
+        self.sensor_faults = sensor_faults
+        self._last_estimate: EstimatedState | None = None
         self.controller = controller
         self.simulation = simulation
         self.estimator = estimator
         self.detector = detector
 
     def _estimate(self, state, *, first: bool = False):
-        """The state the controller receives after ``state``."""
+        """The state the controller receives after ``state``: readings checked at the
+        boundary; a bad or missing one is a sensor fault (the estimator is not updated with
+        it, the controller keeps the last estimate and counts the tick as a fallback)."""
         if self.estimator is None:
             return state.oracle
         if first:
-            return self.estimator.reset(state.sensors, self.robot.q0)
-        return self.estimator.update(state.sensors)
+            self._last_estimate = self.estimator.reset(state.sensors, self.robot.q0)
+            return self._last_estimate
+        readings = state.sensors
+        if self.sensor_faults is not None:
+            readings = self.sensor_faults.apply(readings)
+        if not readings_are_finite(readings):
+            self.controller.faults.note_sensor_fault()
+            return self._last_estimate
+        self._last_estimate = self.estimator.update(readings)
+        return self._last_estimate
 
     def run(
         self, *, video: str | Path | None = None, progress: bool = False, label: str = "walk"
@@ -92,6 +115,7 @@ class ControlLoop:
         controller.reset(robot.q0)
         log = WalkLog.recorder(robot, controller.schedule)
         fall = FallStatus(False, "", 0.0)
+        stop_reason, interrupted = "", False
         nb_ticks = int(math.ceil(controller.schedule.duration / controller.control_period - 1e-9))
         bar = tqdm(total=nb_ticks, desc=label, unit="tick", disable=not progress, leave=False)
         start = time.perf_counter()
@@ -125,9 +149,34 @@ class ControlLoop:
                 fall = self.detector.check(state)
                 if fall.fell:
                     break
+        except ControllerStopped as stop:  # faults beyond the controller's bound
+            stop_reason = stop.reason
+        except KeyboardInterrupt:  # the partial walk is still measured and written
+            interrupted = True
         finally:
             wall_time = time.perf_counter() - start
             bar.close()
             if recorder is not None:
                 recorder.close()
-        return LoopOutcome(log.freeze(), fall, wall_time)
+        return LoopOutcome(log.freeze(), fall, wall_time, stop_reason, interrupted)
+
+
+def with_outcome(metrics: WalkMetrics, outcome: LoopOutcome, faults: FaultMonitor) -> WalkMetrics:
+    """``metrics`` with the walk's outcome, its fault counts and its sanity warnings."""
+    if outcome.interrupted:
+        verdict = "interrupted"
+    elif outcome.stop_reason:
+        verdict = "stopped"
+    else:
+        verdict = "fell" if outcome.fall.fell else "walked"
+    metrics = replace(
+        metrics,
+        outcome=verdict,
+        stop_reason=outcome.stop_reason,
+        interrupted=outcome.interrupted,
+        sensor_faults=faults.sensor_faults,
+        ik_failures=faults.ik_failures,
+        fallback_ticks=faults.fallback_ticks,
+    )
+    warnings = sanity_warnings(metrics) if verdict == "walked" else ()
+    return replace(metrics, warnings=warnings)

@@ -245,7 +245,10 @@ class WalkLogRecorder:
             "actuator_force": (0, nu),
         }
         arrays = {}
+        # a tick appended in part (an interrupt inside append) is dropped from every series
+        complete = min((len(values) for values in self.rows.values()), default=0)
         for name, values in self.rows.items():
+            values = values[:complete]
             dtype = bool if name in ("contact", "estimated_contact", "generator_failed") else float
             arrays[name] = frozen_array(
                 values if values else np.zeros(empty.get(name, (0,))), dtype=dtype

@@ -7,19 +7,19 @@ to the support polygon of the feet the schedule puts on the ground, at their mea
 (:func:`cop_margins`, positive inside).
 """
 
-import itertools
 from dataclasses import asdict, dataclass, replace
 from typing import Any
 
 import numpy as np
 
-from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Side, wrap_angle
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.models.support_polygon import SupportPolygon, foot_rectangle
 from mpcwalk.sim import FallStatus
+from mpcwalk.walking.attitude_metrics import attitude_metrics, yaw_deviation_deg
 from mpcwalk.walking.estimator_metrics import EstimatorAccuracy
 from mpcwalk.walking.log import WalkLog
+from mpcwalk.walking.planned_yaw import planned_yaw_change
 
 _SIDES = (Side.LEFT, Side.RIGHT)
 
@@ -88,6 +88,17 @@ class WalkMetrics:
             that at its start [deg].
         yaw_deviation_deg: After the last push, the largest IMU yaw difference with the same
             walk without the pushes [deg] (:func:`yaw_deviation_deg`; None without one).
+        outcome: ``"walked"`` (the schedule's end reached standing), ``"fell"``, ``"stopped"``
+            (the controller stopped the walk: faults beyond its bound) or ``"interrupted"``.
+        stop_reason: Why the controller stopped the walk ("" otherwise).
+        interrupted: The run was interrupted (SIGINT): the metrics are of the partial walk.
+        sensor_faults: Ticks whose sensor readings or estimate were not finite or did not
+            arrive (the last good estimate was used; :mod:`mpcwalk.control.faults`).
+        ik_failures: Ticks whose IK output was not finite (the reference held).
+        fallback_ticks: Ticks with any fault (a failed solve included).
+        warnings: What makes the walk far from its plan though it did not fall
+            (:func:`sanity_warnings`): large unplanned yaw, CoP long outside the feet,
+            landings far from their footsteps.
     """
 
     fell: bool
@@ -137,6 +148,13 @@ class WalkMetrics:
     estimator_com_velocity_error_rms_m_s: float | None
     estimator_yaw_drift_deg: float | None
     yaw_deviation_deg: float | None = None
+    outcome: str = "walked"
+    stop_reason: str = ""
+    interrupted: bool = False
+    sensor_faults: int = 0
+    ik_failures: int = 0
+    fallback_ticks: int = 0
+    warnings: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """The metrics as a JSON-ready dictionary (the ``metrics.json`` keys)."""
@@ -191,16 +209,6 @@ def landing_check_times(schedule: ContactSchedule) -> np.ndarray:
     if plan.nb_steps:
         times.append(schedule.walk_end + min(0.5, 0.5 * plan.timing.final_duration))
     return np.array(times)
-
-
-def _planned_yaw_change(schedule: ContactSchedule, nb_stances: int) -> float:
-    yaws, total = [], 0.0
-    for stance in schedule.plan.stances()[:nb_stances]:
-        left, right = stance[Side.LEFT].yaw, stance[Side.RIGHT].yaw
-        yaws.append(left + 0.5 * float(wrap_angle(right - left)))
-    for a, b in itertools.pairwise(yaws):
-        total += float(wrap_angle(b - a))
-    return total
 
 
 def _landing_metrics(log: WalkLog, schedule: ContactSchedule, end: float) -> dict[str, Any]:
@@ -288,7 +296,7 @@ def compute_walk_metrics(
     yaw = np.unwrap(log.base_rpy[:, 2]) if len(log) else np.zeros(1)
     metrics["yaw_change_deg"] = float(np.degrees(yaw[-1] - yaw[0]))
     metrics["yaw_change_planned_deg"] = float(
-        np.degrees(_planned_yaw_change(schedule, schedule.plan.nb_steps + 1))
+        np.degrees(planned_yaw_change(schedule, schedule.plan.nb_steps + 1))
     )
     margins = cop_margins(log, schedule)
     valid = margins[np.isfinite(margins)]
@@ -318,60 +326,43 @@ def compute_walk_metrics(
     saturated = np.abs(log.actuator_force) >= 0.99 * log.torque_limit
     metrics["torque_saturation_share"] = float(np.mean(saturated.any(axis=1))) if len(log) else 0.0
     metrics["mpc_failures"] = int(nb_generator_failures)
-    metrics.update(_attitude_metrics(log, schedule, end))
+    metrics.update(attitude_metrics(log, schedule, end))
     metrics.update(EstimatorAccuracy.from_log(log, state_source=state_source).to_dict())
     return WalkMetrics(**metrics)
 
 
-def _attitude_metrics(log: WalkLog, schedule: ContactSchedule, end: float) -> dict[str, Any]:
-    """Yaw rate over the walking phases (start-up excluded), roll/pitch excursions."""
-    metrics: dict[str, Any] = {
-        "roll_max_deg": None,
-        "pitch_max_deg": None,
-        "yaw_rate_deg_s": None,
-        "yaw_rate_planned_deg_s": None,
-    }
-    if not len(log):
-        return metrics
-    rpy = np.unwrap(log.base_rpy, axis=0)
-    excursion = np.degrees(np.abs(rpy - rpy[0]).max(axis=0))
-    metrics["roll_max_deg"] = float(excursion[0])
-    metrics["pitch_max_deg"] = float(excursion[1])
-    start = schedule.walk_start + schedule.step_duration
-    stop = min(schedule.walk_end - schedule.step_duration, end)
-    nb_steps = int(np.floor((stop - schedule.walk_start) / schedule.step_duration + 1e-9))
-    stop = schedule.walk_start + nb_steps * schedule.step_duration
-    if stop - start < schedule.step_duration - 1e-9:
-        return metrics
-    yaw_start, yaw_stop = np.interp([start, stop], log.time, rpy[:, 2])
-    metrics["yaw_rate_deg_s"] = float(np.degrees(yaw_stop - yaw_start) / (stop - start))
-    planned = _planned_yaw_change(schedule, nb_steps + 1) - _planned_yaw_change(schedule, 2)
-    metrics["yaw_rate_planned_deg_s"] = float(np.degrees(planned) / (stop - start))
-    return metrics
+__all__ = [
+    "WalkMetrics",
+    "compute_walk_metrics",
+    "cop_margins",
+    "landing_check_times",
+    "measured_support_polygon",
+    "sanity_warnings",
+    "yaw_deviation_deg",
+]
 
 
-def yaw_deviation_deg(
-    log: WalkLog, reference: WalkLog, after: float, *, statistic: str = "max"
-) -> float:
-    """IMU yaw of a walk against the same walk without its pushes [deg].
+#: Beyond these a walk that did not fall is flagged (:func:`sanity_warnings`).
+UNPLANNED_YAW_WARNING_DEG = 15.0
+COP_OUTSIDE_WARNING_SHARE = 0.1
+FOOT_ERROR_WARNING_CM = 10.0
 
-    ``|yaw(t) - yaw_reference(t)|`` (difference wrapped to [-180, 180) deg, the reference
-    interpolated at the walk's ticks) over ``after <= t <= end``, ``after`` the end of the
-    last push and ``end`` the end of the shorter log; ``statistic`` "max" (paper M's
-    deviation caused by F2, the default) or "final" (at ``end``). 0 when no tick lies in the
-    window.
 
-    Raises:
-        ConfigurationError: Another statistic.
-    """
-    if statistic not in ("max", "final"):
-        raise ConfigurationError(f"statistic must be 'max' or 'final', got {statistic!r}.")
-    if not len(log) or not len(reference):
-        return 0.0
-    end = min(float(log.time[-1]), float(reference.time[-1]))
-    mask = (log.time >= after - 1e-9) & (log.time <= end + 1e-9)
-    if not np.any(mask):
-        return 0.0
-    reference_yaw = np.interp(log.time[mask], reference.time, np.unwrap(reference.base_rpy[:, 2]))
-    deviation = np.abs(wrap_angle(np.unwrap(log.base_rpy[:, 2])[mask] - reference_yaw))
-    return float(np.degrees(deviation.max() if statistic == "max" else deviation[-1]))
+def sanity_warnings(metrics: WalkMetrics) -> tuple[str, ...]:
+    """Why a walk is far from its plan though it did not fall, in words (empty if not)."""
+    out = []
+    unplanned = metrics.yaw_change_deg - metrics.yaw_change_planned_deg
+    if abs(unplanned) > UNPLANNED_YAW_WARNING_DEG:
+        out.append(
+            f"unplanned yaw of {unplanned:+.1f} deg (beyond {UNPLANNED_YAW_WARNING_DEG:g} deg)"
+        )
+    share = metrics.cop_outside_share
+    if share is not None and share > COP_OUTSIDE_WARNING_SHARE:
+        out.append(
+            f"the CoP was outside the feet on {100 * share:.0f} % of the ticks (beyond "
+            f"{100 * COP_OUTSIDE_WARNING_SHARE:.0f} %)"
+        )
+    error = metrics.foot_position_error_cm_max
+    if error is not None and error > FOOT_ERROR_WARNING_CM:
+        out.append(f"landings up to {error:.1f} cm off their footsteps")
+    return tuple(out)

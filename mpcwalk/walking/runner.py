@@ -44,10 +44,13 @@ from mpcwalk.models.lipm import LIPM
 from mpcwalk.robot import Robot, load_robot
 from mpcwalk.sim import ExternalForce, FallDetector, Simulation
 from mpcwalk.sim.perturbation import Perturbation
+from mpcwalk.sim.sensor_faults import SensorFaults
 from mpcwalk.sim.sensor_model import SensorModel
-from mpcwalk.walking.control_loop import ControlLoop
+from mpcwalk.walking.control_loop import ControlLoop, with_outcome
 from mpcwalk.walking.controller_resolution import default_timing, resolve_controller
+from mpcwalk.walking.inputs import check_options, check_pushes, check_walk_numbers
 from mpcwalk.walking.metrics import compute_walk_metrics, yaw_deviation_deg
+from mpcwalk.walking.outputs import check_video_path
 from mpcwalk.walking.result import WalkConfig, WalkResult
 from mpcwalk.walking.world_options import WorldOptions
 
@@ -159,6 +162,7 @@ def run_walk(
     friction: float | None = None,
     servo_strength: float | None = None,
     seed: int = 0,
+    sensor_faults: SensorFaults | None = None,
 ) -> WalkResult:
     """Simulate a walk of a robot in MuJoCo and measure it.
 
@@ -208,6 +212,8 @@ def run_walk(
         friction: Friction coefficient of the floor contacts (None: the model's).
         servo_strength: Factor on the servos' gains and torque limits.
         seed: Seed of the sensor noise.
+        sensor_faults: Faults injected into the sensor stream
+            (:class:`~mpcwalk.sim.sensor_faults.SensorFaults`: NaN and dropped readings).
 
     Returns:
         The walk, its log, metrics and configuration. A fall ends the run early (``result.fall``).
@@ -235,6 +241,18 @@ def run_walk(
         if isinstance(robot_name, Robot)
         else load_robot(robot_name, visual=video is not None)
     )
+    check_walk_numbers(
+        robot,
+        nb_steps=nb_steps,
+        duration=duration,
+        step_duration=step_duration,
+        double_support_ratio=double_support_ratio,
+        step_height=step_height,
+        control_period=control_period,
+        arm_swing=arm_swing,
+    )
+    if video is not None:
+        check_video_path(video)
     parts = resolve_controller(
         controller,
         generator=generator,
@@ -247,6 +265,8 @@ def run_walk(
     generator, feedback, stabilizer = parts.generator, parts.feedback, parts.stabilizer
     arm_swing, generator_options = parts.arm_swing, parts.generator_options
     controller_options = parts.controller_options
+    check_options(WalkingController, controller_options, "controller")
+    check_options(generator_class(generator), generator_options, f"generator '{generator}'")
     gait = robot.gait
     timing = default_timing(generator, gait, step_duration, double_support_ratio)
     period = timing.step_duration
@@ -259,6 +279,7 @@ def run_walk(
     plan = plan_walk_footsteps(robot, command=command, path=path, nb_steps=nb_steps, timing=timing)
     schedule = ContactSchedule(plan, FootGeometry(*robot.sole_size))
     generator_class(generator).check_timing(schedule, LIPM(com_height=robot.com_height))
+    pushes = check_pushes(pushes, robot, schedule.duration)
     options = {
         key: value
         for key, value in (("dcm_gain", gait.dcm_gain), ("observer_gain", gait.observer_gain))
@@ -301,7 +322,7 @@ def run_walk(
         else None
     )
     detector = fall_detector or FallDetector.for_robot(robot)
-    outcome = ControlLoop(robot, walker, simulation, estimator, detector).run(
+    outcome = ControlLoop(robot, walker, simulation, estimator, detector, sensor_faults).run(
         video=video, progress=progress, label=f"{robot.name} {generator}"
     )
     log, fall = outcome.log, outcome.fall
@@ -317,6 +338,7 @@ def run_walk(
         closing_steps=1 if command is not None and plan.nb_steps else 0,
         state_source=world.state,
     )
+    metrics = with_outcome(metrics, outcome, walker.faults)
     config = WalkConfig(
         robot=robot.name,
         generator=generator,
@@ -338,7 +360,7 @@ def run_walk(
         arm_swing=float(arm_swing),
         **world.to_config(robot, control_period),
     )
-    if yaw_reference and pushes:
+    if yaw_reference and pushes and not outcome.interrupted:
         reference = run_walk(
             robot,
             generator,

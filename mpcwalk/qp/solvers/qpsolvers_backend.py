@@ -30,6 +30,23 @@ class QpsolversSolver(QPSolver):
         self.settings = settings
         self.dense = name not in qpsolvers.sparse_solvers
         self._previous: np.ndarray | None = None
+        if settings:
+            self._check_settings()
+
+    def _check_settings(self) -> None:
+        """Refuse settings the back-end does not take, before the walk: they are tried on
+        a one-variable QP (the back-ends raise on unknown keywords at their first solve)."""
+        trial = qpsolvers.Problem(np.eye(1), np.zeros(1), lb=-np.ones(1), ub=np.ones(1))
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                qpsolvers.solve_problem(trial, self.name, **self.settings)
+        except Exception as error:
+            raise ConfigurationError(
+                f"Solver '{self.name}' does not take the settings {self.settings!r}: "
+                f"{type(error).__name__}: {error}; see the back-end's documentation for its "
+                "options (qpsolvers passes them through)."
+            ) from None
 
     def reset(self) -> None:
         self._previous = None

@@ -1,0 +1,144 @@
+"""Outputs that never lie: the output folder checked before anything runs, files written
+atomically (a temporary name, then a rename), ``metrics.json`` last, MuJoCo's own log kept
+under the output folder.
+"""
+
+import json
+import os
+import tempfile
+import traceback
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from mpcwalk.exceptions import ConfigurationError
+
+#: Written last by a finished (or cleanly stopped or interrupted) run.
+METRICS_FILE = "metrics.json"
+#: Where an internal error's traceback goes.
+TRACEBACK_FILE = "traceback.txt"
+#: MuJoCo's warnings and errors.
+MUJOCO_LOG_FILE = "mujoco_log.txt"
+
+
+def _nearest_existing(path: Path) -> Path:
+    current = path
+    while not current.exists():
+        if current.parent == current:
+            break
+        current = current.parent
+    return current
+
+
+def out_path(text: str) -> Path:
+    """``--out``'s argument type: a non-empty path (``''`` would be the working folder)."""
+    if not text.strip():
+        import argparse
+
+        raise argparse.ArgumentTypeError("an output folder is needed, got an empty string")
+    return Path(text)
+
+
+def check_out_dir(out: Any, *, overwrite: bool = False, option: str = "--out") -> Path:
+    """The output folder as a Path, checked without creating anything.
+
+    Raises:
+        ConfigurationError: Empty, an existing file (or a path through one), a folder that
+            cannot be written, or a folder holding an earlier run's ``metrics.json`` (unless
+            ``overwrite``).
+    """
+    text = str(out) if out is not None else ""
+    if not text.strip():
+        raise ConfigurationError(
+            f"{option} must name an output folder, got {text!r}; e.g. {option} out/walk."
+        )
+    path = Path(text)
+    if path.exists() and not path.is_dir():
+        raise ConfigurationError(
+            f"{option} {path} exists and is not a folder; give a folder (it is created)."
+        )
+    existing = _nearest_existing(path)
+    if not existing.is_dir():
+        raise ConfigurationError(
+            f"{option} {path} cannot be created: {existing} is a file, not a folder."
+        )
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise ConfigurationError(
+            f"{option} {path} cannot be written ({existing} is not writable); choose a "
+            "folder you can write to."
+        )
+    if not path.exists():  # can a folder be made there? (made and removed at once)
+        try:
+            os.rmdir(tempfile.mkdtemp(dir=existing, prefix=".mpcwalk-check-"))
+        except OSError as error:
+            raise ConfigurationError(
+                f"{option} {path} cannot be created in {existing}: {error.strerror or error}."
+            ) from None
+    if (path / METRICS_FILE).exists() and not overwrite:
+        raise ConfigurationError(
+            f"{option} {path} holds an earlier run ({METRICS_FILE}); give another folder, "
+            "or --overwrite to replace it."
+        )
+    return path
+
+
+def check_video_path(video: Any) -> Path:
+    """The video file's path, checked before the walk (its folder exists and is writable)."""
+    path = Path(str(video))
+    if path.exists() and path.is_dir():
+        raise ConfigurationError(f"video={path} is a folder; give an .mp4 file's path.")
+    folder = path.parent
+    if not folder.is_dir() or not os.access(folder, os.W_OK | os.X_OK):
+        raise ConfigurationError(
+            f"video={path} cannot be written: {folder} is not a writable folder."
+        )
+    return path
+
+
+def write_atomic(path: Path, write: Callable[[Path], Any]) -> Path:
+    """Call ``write(tmp)`` on a temporary file beside ``path``, then rename it to ``path``:
+    a reader never sees a half-written file. ``tmp`` keeps ``path``'s suffix."""
+    path = Path(path)
+    handle, name = tempfile.mkstemp(
+        dir=path.parent, prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}"
+    )
+    os.close(handle)
+    tmp = Path(name)
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return path
+
+
+def write_json(path: Path, data: Any) -> Path:
+    """``data`` as indented JSON at ``path``, atomically."""
+    return write_atomic(path, lambda tmp: tmp.write_text(json.dumps(data, indent=2) + "\n"))
+
+
+def save_traceback(out: Path | None, error: BaseException) -> Path | None:
+    """Write ``error``'s traceback under ``out`` (None when it cannot be written there)."""
+    if out is None:
+        return None
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        text = "".join(traceback.format_exception(type(error), error, error.__traceback__))
+        return write_atomic(out / TRACEBACK_FILE, lambda tmp: tmp.write_text(text))
+    except OSError:
+        return None
+
+
+def log_mujoco_messages(out: Path) -> None:
+    """Send MuJoCo's warnings to ``out/mujoco_log.txt`` instead of ``MUJOCO_LOG.TXT`` in the
+    working directory."""
+    import mujoco
+
+    log = out / MUJOCO_LOG_FILE
+
+    def warn(message: str) -> None:
+        with open(log, "a", encoding="utf-8") as stream:
+            stream.write(f"WARNING: {message}\n")
+
+    mujoco.set_mju_user_warning(warn)

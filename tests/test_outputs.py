@@ -1,0 +1,119 @@
+"""Outputs never lie: atomic writes, ``metrics.json`` last, an earlier run refused unless
+``--overwrite``, SIGINT writes the partial walk, an internal error is one line and a saved
+traceback (exit 4), MuJoCo's log stays under ``--out``."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+import mpcwalk.walking.walk_command as walk_command
+from mpcwalk.cli import main
+from mpcwalk.walking.outputs import write_atomic, write_json
+
+ARGS = ["walk", "--robot", "bioloid-like", "--no-progress"]
+
+
+def test_atomic_write_leaves_the_old_file_when_the_writer_fails(tmp_path):
+    path = tmp_path / "metrics.json"
+    write_json(path, {"run": 1})
+
+    def broken(tmp):
+        tmp.write_text('{"run": 2, "trunc')
+        raise OSError("disk full")
+
+    with pytest.raises(OSError, match="disk full"):
+        write_atomic(path, broken)
+    assert json.loads(path.read_text()) == {"run": 1}
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["metrics.json"]  # no temporary file
+
+
+def test_metrics_are_written_last(tmp_path, monkeypatch, capsys):
+    order = []
+    real = walk_command.write_atomic
+
+    def spy(path, write):
+        order.append(path.name)
+        return real(path, write)
+
+    monkeypatch.setattr(walk_command, "write_atomic", spy)
+    real_json = walk_command.write_json
+    monkeypatch.setattr(
+        walk_command, "write_json", lambda p, d: order.append(p.name) or real_json(p, d)
+    )
+    assert main(ARGS + ["--steps", "1", "--out", str(tmp_path / "w")]) == 0
+    assert order[-1] == "metrics.json" and order[0] == "walk_log.npz"
+    assert len(order) == len(set(order)) >= 4
+
+
+def test_an_earlier_run_is_refused_unless_overwrite(tmp_path, capsys):
+    out = tmp_path / "w"
+    assert main(ARGS + ["--steps", "1", "--out", str(out)]) == 0
+    first = (out / "metrics.json").read_text()
+    assert main(ARGS + ["--steps", "2", "--out", str(out)]) == 2
+    assert "holds an earlier run" in capsys.readouterr().err
+    assert (out / "metrics.json").read_text() == first
+    assert main(ARGS + ["--steps", "2", "--out", str(out), "--overwrite"]) == 0
+    assert json.loads((out / "metrics.json").read_text())["steps_planned"] == 3
+
+
+def test_an_internal_error_is_one_line_and_a_saved_traceback(tmp_path, monkeypatch, capsys):
+    def bug(*args, **kwargs):
+        raise ZeroDivisionError("a bug")
+
+    monkeypatch.setattr("mpcwalk.walking.runner.run_walk", bug)
+    out = tmp_path / "w"
+    assert main(ARGS + ["--steps", "1", "--out", str(out)]) == 4
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "internal error: ZeroDivisionError: a bug" in err
+    assert "Traceback" not in err and str(out / "traceback.txt") in err
+    assert "ZeroDivisionError" in (out / "traceback.txt").read_text()
+    assert not (out / "metrics.json").exists()
+    assert main(["--debug"] + ARGS + ["--steps", "1", "--out", str(tmp_path / "d")]) == 4
+    assert "Traceback" in capsys.readouterr().err
+
+
+def test_mujoco_warnings_go_under_out(tmp_path, monkeypatch):
+    import mujoco
+    import numpy as np
+
+    from mpcwalk.walking.outputs import MUJOCO_LOG_FILE, log_mujoco_messages
+
+    monkeypatch.chdir(tmp_path)
+    out = tmp_path / "w"
+    out.mkdir()
+    previous = mujoco.get_mju_user_warning()
+    try:
+        log_mujoco_messages(out)
+        xml = '<mujoco><worldbody><body><freejoint/><geom size="0.1"/></body></worldbody></mujoco>'
+        model = mujoco.MjModel.from_xml_string(xml)
+        data = mujoco.MjData(model)
+        data.qpos[:] = np.nan  # a diverged simulation: MuJoCo warns
+        mujoco.mj_step(model, data)
+    finally:
+        mujoco.set_mju_user_warning(previous)
+    assert "The simulation is unstable" in (out / MUJOCO_LOG_FILE).read_text()
+    assert not (tmp_path / "MUJOCO_LOG.TXT").exists()
+
+
+@pytest.mark.slow
+def test_sigint_writes_the_partial_walk(tmp_path):
+    out = tmp_path / "w"
+    command = [sys.executable, "-m", "mpcwalk", *ARGS, "--steps", "200", "--out", str(out)]
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    process = subprocess.Popen(
+        command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env
+    )
+    time.sleep(10.0)  # imports and a few seconds of the 100 s walk (about 20 s of wall time)
+    process.send_signal(signal.SIGINT)
+    stdout, stderr = process.communicate(timeout=120)
+    assert process.returncode == 130, stderr
+    assert "Traceback" not in stderr and "INTERRUPTED" in stdout
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["interrupted"] is True and metrics["outcome"] == "interrupted"
+    assert 0.0 < metrics["time_simulated_s"] < metrics["time_planned_s"]
+    assert (out / "walk_log.npz").exists()
