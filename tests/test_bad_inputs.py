@@ -168,3 +168,14 @@ API_CASES = [
 def test_bad_api_input_is_a_named_error(label, call, message):
     with pytest.raises(MpcwalkError, match=message):
         call()
+
+
+def test_bad_api_input_misspelled_preset_key_is_refused(tmp_path):
+    from mpcwalk.robot.package_data import ROBOT_DATA, package_data_dir
+    from mpcwalk.robot.preset import RobotPreset
+
+    shipped = package_data_dir(ROBOT_DATA) / "presets" / "bioloid_like.toml"
+    text = shipped.read_text().replace("sole_size =", "sole_sizes =")
+    (tmp_path / "bioloid_like.toml").write_text(text)
+    with pytest.raises(MpcwalkError, match=r"unknown key\(s\) sole_sizes in \[feet\].*sole_size"):
+        RobotPreset.from_file(tmp_path / "bioloid_like.toml")

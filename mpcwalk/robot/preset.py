@@ -102,6 +102,7 @@ class RobotPreset:
         """
         try:
             raw = tomllib.loads(path.read_text())
+            _check_keys(raw, path.name)
             feet, imu = raw.get("feet", {}), raw.get("imu", {})
             gait = GaitDefaults.from_table(raw.get("gait", {}), source=f"Robot preset {path.name}")
             return RobotPreset(
@@ -136,3 +137,39 @@ def _floats(values, size: int) -> tuple:
     if len(result) != size:
         raise ValueError(f"expected {size} numbers, got {len(result)}")
     return result
+
+
+#: The keys a preset may have, per table ("" for the top level; [gait] is checked by
+#: GaitDefaults, [nominal_posture] by the robot's joint names, [[actuators]] by ActuatorGains).
+_PRESET_KEYS = {
+    "": (
+        "name",
+        "format",
+        "description",
+        "torso_frame",
+        "com_height",
+        "timestep",
+        "feet",
+        "imu",
+        "gait",
+        "nominal_posture",
+        "actuators",
+    ),
+    "feet": ("left", "right", "sole_size", "sole_offset", "sole_thickness"),
+    "imu": ("frame", "offset"),
+}
+
+
+def _check_keys(raw: dict, source: str) -> None:
+    """Refuse a misspelled key with the valid names."""
+    for table, valid in _PRESET_KEYS.items():
+        values = raw if not table else raw.get(table, {})
+        if not isinstance(values, dict):
+            raise ConfigurationError(f"Robot preset {source}: [{table}] must be a table.")
+        unknown = sorted(set(values) - set(valid))
+        if unknown:
+            where = f"[{table}]" if table else "the top level"
+            raise ConfigurationError(
+                f"Robot preset {source}: unknown key(s) {', '.join(unknown)} in {where}; the "
+                f"keys there are {', '.join(valid)}."
+            )
