@@ -1,6 +1,8 @@
 """Robots: Pinocchio and MuJoCo built from one description agree; presets are right."""
 
+import json
 import re
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -281,3 +283,39 @@ def test_importing_robots_loads_no_mujoco():
         [sys.executable, "-c", code], capture_output=True, text=True, check=True
     )
     assert result.stdout.strip() == "False"
+
+
+def _user_preset(folder, name: str = "my-biped") -> Path:
+    """A user's robot outside the repository: a shipped MJCF copied under a new name, and a
+    preset file beside it naming it."""
+    description = folder / "my_biped.xml"
+    description.write_text((robots.ROBOTS_DIR / "bioloid_like.xml").read_text())
+    text = (robots.PRESETS_DIR / "bioloid_like.toml").read_text()
+    text = text.replace('name = "bioloid-like"', f'name = "{name}"')
+    text = text.replace('description = "bioloid_like.xml"', 'description = "my_biped.xml"')
+    preset = folder / "my_biped.toml"
+    preset.write_text(text)
+    return preset
+
+
+def test_a_user_preset_outside_the_repository_loads_and_walks(tmp_path):
+    from mpcwalk.cli import main as cli_main
+
+    preset = _user_preset(tmp_path)
+    robot = load_robot(preset)
+    assert robot.name == "my-biped" and robot.description_path == tmp_path / "my_biped.xml"
+    assert load_robot(str(preset)).total_mass == pytest.approx(robot.total_mass)
+    out = tmp_path / "out"
+    code = cli_main(["walk", "--robot", str(preset), "--duration", "1", "--out", str(out)])
+    assert code == 0
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert not metrics["fell"] and metrics["steps_completed"] == metrics["steps_planned"]
+
+
+def test_a_user_preset_whose_description_is_missing_is_refused(tmp_path):
+    preset = _user_preset(tmp_path)
+    (tmp_path / "my_biped.xml").unlink()
+    with pytest.raises(RobotNotFound, match=r"my_biped.xml"):
+        load_robot(preset)
+    with pytest.raises(RobotNotFound, match=r"is not found"):
+        load_robot(tmp_path / "nowhere.toml")

@@ -67,9 +67,12 @@ def _presets() -> dict[str, Path]:
     return presets
 
 
-def _description_path(preset: RobotPreset) -> Path | None:
-    """The preset's description file, or None when it is not installed."""
+def _description_path(preset: RobotPreset, folder: Path | None = None) -> Path | None:
+    """The preset's description file, or None when it is not installed: next to a user's
+    preset file (``folder``) first, then the shipped robots or example-robot-data."""
     path: Path | None
+    if folder is not None and (folder / preset.description).is_file():
+        return folder / preset.description
     if preset.format == "mjcf":
         path = ROBOTS_DIR / preset.description
     else:
@@ -87,11 +90,14 @@ def robot_names() -> tuple[str, ...]:
     return tuple(names)
 
 
-def load_robot(name: str, *, visual: bool = True) -> Robot:
+def load_robot(name: str | Path, *, visual: bool = True) -> Robot:
     """Load a robot into Pinocchio and MuJoCo.
 
     Args:
-        name: One of :func:`robot_names` (``bioloid-like``, ``atlas-like``, ``g1``...).
+        name: One of :func:`robot_names` (``bioloid-like``, ``atlas-like``, ``g1``...), or
+            the path of a preset file (``.toml``, as in ``robots/presets/``) of a user's robot:
+            its ``description`` (URDF or MJCF) is looked for next to the preset file, then
+            among the shipped descriptions and example-robot-data's.
         visual: Keep the mesh geometries of URDF models (for rendering). Without them the
             MuJoCo model compiles faster and simulates the same.
 
@@ -102,11 +108,22 @@ def load_robot(name: str, *, visual: bool = True) -> Robot:
         RobotNotFound: Unknown name, or its description file is not installed.
         FrameNotFound: A frame named in the preset does not exist in the description.
     """
-    presets = _presets()
-    if name not in presets:
-        raise RobotNotFound(name, robot_names())
-    preset = RobotPreset.from_file(presets[name])
-    path = _description_path(preset)
+    if _is_preset_path(name):
+        preset_file = Path(name)
+        if not preset_file.is_file():
+            what = "a folder" if preset_file.is_dir() else "not found"
+            raise RobotNotFound(
+                str(name), robot_names(), f"the preset file {preset_file} is {what}"
+            )
+        preset = RobotPreset.from_file(preset_file)
+        path = _description_path(preset, preset_file.parent)
+        name = preset.name
+    else:
+        presets = _presets()
+        if name not in presets:
+            raise RobotNotFound(str(name), robot_names())
+        preset = RobotPreset.from_file(presets[name])
+        path = _description_path(preset)
     if path is None:
         raise RobotNotFound(
             name,
@@ -115,6 +132,11 @@ def load_robot(name: str, *, visual: bool = True) -> Robot:
             "`pip install example-robot-data` provides the URDF models",
         )
     return _build_robot(preset, path, visual=visual)
+
+
+def _is_preset_path(name: str | Path) -> bool:
+    """Whether ``name`` names a preset file rather than a shipped robot."""
+    return isinstance(name, Path) or str(name).endswith(".toml") or "/" in str(name)
 
 
 def _build_robot(preset: RobotPreset, path: Path, *, visual: bool) -> Robot:
