@@ -1,6 +1,18 @@
 """Read-only arrays: the snapshots and references that results and states hand out."""
 
+import math
+
 import numpy as np
+
+
+def all_finite(arrays, scalars=()) -> bool:
+    """Whether every value of the numpy ``arrays`` and of the ``scalars`` is finite, in one
+    pass (the per-tick checks at the loop's boundaries: one concatenation, one test)."""
+    if not all(map(math.isfinite, scalars)):
+        return False
+    if not arrays:
+        return True
+    return bool(np.isfinite(np.concatenate([np.ravel(array) for array in arrays])).all())
 
 
 def frozen_array(values, shape: tuple[int, ...] | None = None, dtype=float) -> np.ndarray:
@@ -8,6 +20,12 @@ def frozen_array(values, shape: tuple[int, ...] | None = None, dtype=float) -> n
     array = np.array(values, dtype=dtype)
     if shape is not None:
         array = array.reshape(shape)
+    array.setflags(write=False)
+    return array
+
+
+def freeze(array: np.ndarray) -> np.ndarray:
+    """``array`` itself made read-only (no copy: for a fresh array nobody else holds)."""
     array.setflags(write=False)
     return array
 

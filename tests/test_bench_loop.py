@@ -28,10 +28,15 @@ def test_loop_benchmark_reduced_run():
     # the table shows this run's numbers
     row = f"| {case.distance_m:.3f} ({case.distance_planned_m:.3f}) |"
     assert row in table and f"| {100 * case.cop_margin_p05_m:.2f} |" in table
+    # the floor: the same robot standing, MuJoCo alone, then with the sensors; both above the
+    # whole loop's real-time factor (they are part of it)
+    assert case.physics_floor_rtf > case.simulation_floor_rtf > case.real_time_factor
     timing = (
-        f"| {case.real_time_factor:.1f} | {case.estimator_tick_us:.0f} | "
+        f"| {case.real_time_factor:.1f} | {case.physics_floor_rtf:.0f} / "
+        f"{case.simulation_floor_rtf:.0f} | {case.estimator_tick_us:.0f} | "
         f"{case.generator_tick_us:.0f} |"
     )
     assert timing in table
     overhead = case.controller_tick_us - case.generator_tick_us - case.ik_tick_us
+    assert case.controller_overhead_us == overhead
     assert f"| {case.controller_tick_us:.0f} | {overhead:.0f} |" in table

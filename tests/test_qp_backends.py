@@ -258,3 +258,20 @@ def test_the_registry_takes_new_back_ends():
 def test_definite_solvers_refuse_the_sparse_layout():
     with pytest.raises(ConfigurationError, match="quadprog.*formulation='dense'"):
         make_solver("quadprog").check(build("mpc", "sparse"))
+
+
+@pytest.mark.parametrize("kind", ["mpc", "static"])
+def test_daqp_direct_matches_the_reference_and_hot_starts(kind):
+    qp = build(kind, "dense")
+    solver = make_solver("daqp-direct")
+    result = solver.solve(qp)
+    assert result.solver == "daqp-direct" and result.iterations > 0
+    assert_result(result, qp, kind, TOLERANCES.get("daqp", DEFAULT_TOLERANCE))
+    # The same vectors again: the working set of the last solve is already optimal.
+    again = solver.solve(qp)
+    assert again.iterations < result.iterations
+    np.testing.assert_allclose(again.x, result.x, atol=1e-9)
+    with pytest.raises(ConfigurationError, match="formulation='dense'"):
+        solver.check(build(kind, "sparse"))
+    with pytest.raises(ConfigurationError, match="does not take the settings bogus"):
+        make_solver("daqp-direct", bogus=1)

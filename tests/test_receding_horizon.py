@@ -80,7 +80,7 @@ def test_past_the_bound_the_core_raises_and_coast_goes_on_with_zero_jerk():
         out = gen.step()
         assert out.solve.consecutive_failures == failures
         outs.append(out)
-    with pytest.raises(NoSolutionFound, match="'daqp' found no solution"):
+    with pytest.raises(NoSolutionFound, match="'daqp-direct' found no solution"):
         gen.step()
     assert gen.tick == 32  # a raising step does not move the clock
     coasted = gen.coast(solver="daqp")
@@ -169,3 +169,20 @@ def test_the_registry_names_every_generator():
         assert generator_class(name).name == name
     with pytest.raises(GeneratorNotFound, match="Unknown pattern generator 'zmp'.*mpc-steps"):
         generator_class("zmp")
+
+
+def test_hot_started_daqp_plans_as_the_cold_qpsolvers_path():
+    """The default back-end (DAQP's own workspace: the Hessian factorised once, vectors
+    rewritten, the working set of the last tick kept) gives, tick after tick and through
+    the changes of support polygons, the plans of DAQP called anew through qpsolvers."""
+    schedule = velocity_schedule((0.1, 0.0, 0.2), 6)
+    hot = make_generator("mpc", lipm=LIPM_SMALL)
+    cold = make_generator("mpc", lipm=LIPM_SMALL, solver="daqp")
+    assert hot.solver.name == "daqp-direct"
+    hot.reset(schedule)
+    cold.reset(schedule)
+    for _ in range(300):
+        a, b = hot.step(), cold.step()
+        assert a.solve.success and b.solve.success
+        np.testing.assert_allclose(a.com, b.com, atol=1e-9)
+        np.testing.assert_allclose(a.horizon.zmp, b.horizon.zmp, atol=1e-6)

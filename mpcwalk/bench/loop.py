@@ -1,15 +1,20 @@
 """Whole-loop timing of walks in MuJoCo, per robot and generator, with the IK
 beside pink on the same tasks (issue figures: real-time factor, generator tick,
-IK tick, MuJoCo step).
+IK tick, MuJoCo step), and the floor of each robot's loop: the same robot in the same
+simulation with its actuators holding the nominal posture and no controller
+(:func:`physics_floor`).
 
 Each walk runs in this process, one after the other, with the same settings as
 ``mpcwalk walk``; the IK comparison is :func:`mpcwalk.bench.ik.run_ik_benchmark`
 in the same run.
 """
 
+import time
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
+
+import numpy as np
 
 #: The walks the robots/MuJoCo issue asks for: (robot, generator, command (vx, vy, vyaw),
 #: number of steps, step duration or None for the preset's).
@@ -53,6 +58,10 @@ class LoopCase:
         foot_position_error_cm_max: In [cm].
         foot_yaw_error_deg_max: In [deg].
         cop_margin_p05_m: 5th percentile of the measured CoP margin, in [m].
+        physics_floor_rtf: Real-time factor of MuJoCo alone on this robot (its actuators
+            holding the nominal posture, no controller, no sensors): the limit of the loop.
+        simulation_floor_rtf: Same with the simulation's ground truth and sensor readings of
+            every control period (what the loop's simulation side costs without a controller).
     """
 
     robot: str
@@ -75,6 +84,82 @@ class LoopCase:
     foot_position_error_cm_max: float
     foot_yaw_error_deg_max: float
     cop_margin_p05_m: float
+    physics_floor_rtf: float = float("nan")
+    simulation_floor_rtf: float = float("nan")
+
+    @property
+    def controller_overhead_us(self) -> float:
+        """The control tick (controller and estimator) less the generator, the estimator and
+        the IK: the controller's own work (trajectories, feedback, stabilizers, feed-forward,
+        bookkeeping), in [us]."""
+        return self.controller_tick_us - self.generator_tick_us - self.ik_tick_us
+
+
+@dataclass(frozen=True)
+class PhysicsFloor:
+    """The loop's floor on one robot: simulated time over wall time.
+
+    Attributes:
+        robot: Robot name.
+        physics_rtf: MuJoCo's steps alone (``mj_step`` per physics step, the actuators
+            holding the nominal posture).
+        simulation_rtf: :meth:`mpcwalk.sim.Simulation.step` (the same steps, plus the ground
+            truth and the sensor readings of each control period).
+        physics_us: Median wall time of the physics steps of one control period, in [us].
+        simulation_us: Median wall time of one :meth:`~mpcwalk.sim.Simulation.step`, in [us].
+    """
+
+    robot: str
+    physics_rtf: float
+    simulation_rtf: float
+    physics_us: float
+    simulation_us: float
+
+
+def physics_floor(
+    robot_name: str, *, duration: float = 5.0, control_period: float = 0.01
+) -> PhysicsFloor:
+    """Time MuJoCo alone on ``robot_name`` standing with its actuators holding ``q0``.
+
+    Args:
+        robot_name: Robot to load.
+        duration: Simulated time of each of the two runs [s].
+        control_period: Control period [s] (the physics step is the robot's).
+    """
+    import mujoco
+
+    from mpcwalk.robot import load_robot
+    from mpcwalk.sim import Simulation
+
+    robot = load_robot(robot_name, visual=False)
+    simulation = Simulation(robot, control_period=control_period, seed=0)
+    nb_ticks = int(round(duration / control_period))
+    simulation.reset(robot.q0)
+    model, data, substeps = simulation.model, simulation.data, simulation.nb_substeps
+    physics = np.empty(nb_ticks)
+    start = time.perf_counter()
+    for k in range(nb_ticks):
+        tick = time.perf_counter()
+        mujoco.mj_step(model, data, substeps)
+        physics[k] = time.perf_counter() - tick
+    physics_wall = time.perf_counter() - start
+    simulation.reset(robot.q0)
+    targets = robot.q0[7:]
+    steps = np.empty(nb_ticks)
+    start = time.perf_counter()
+    for k in range(nb_ticks):
+        tick = time.perf_counter()
+        simulation.step(targets)
+        steps[k] = time.perf_counter() - tick
+    simulation_wall = time.perf_counter() - start
+    simulated = nb_ticks * control_period
+    return PhysicsFloor(
+        robot=robot_name,
+        physics_rtf=simulated / physics_wall,
+        simulation_rtf=simulated / simulation_wall,
+        physics_us=float(np.median(physics) * 1e6),
+        simulation_us=float(np.median(steps) * 1e6),
+    )
 
 
 def run_loop_benchmark(walks=DEFAULT_WALKS, *, progress: bool = True) -> list[LoopCase]:
@@ -88,6 +173,7 @@ def run_loop_benchmark(walks=DEFAULT_WALKS, *, progress: bool = True) -> list[Lo
 
     from mpcwalk.walking.runner import run_walk
 
+    floors: dict[str, PhysicsFloor] = {}
     cases = []
     for robot, generator, command, nb_steps, step_duration in tqdm(
         walks, desc="walks", disable=not progress
@@ -101,6 +187,9 @@ def run_loop_benchmark(walks=DEFAULT_WALKS, *, progress: bool = True) -> list[Lo
             progress=False,
         )
         m, config = result.metrics, result.config
+        if robot not in floors:
+            floors[robot] = physics_floor(robot, control_period=float(config.control_period_s))
+        floor = floors[robot]
         cases.append(
             LoopCase(
                 robot=robot,
@@ -123,6 +212,8 @@ def run_loop_benchmark(walks=DEFAULT_WALKS, *, progress: bool = True) -> list[Lo
                 foot_position_error_cm_max=float(m.foot_position_error_cm_max or 0.0),
                 foot_yaw_error_deg_max=float(m.foot_yaw_error_deg_max or 0.0),
                 cop_margin_p05_m=float(m.cop_margin_p05_m or 0.0),
+                physics_floor_rtf=floor.physics_rtf,
+                simulation_floor_rtf=floor.simulation_rtf,
             )
         )
     return cases
@@ -145,16 +236,17 @@ def format_loop_table(cases: Sequence[LoopCase]) -> str:
         )
     lines += [
         "",
-        "| robot | generator | command | real-time factor | estimator [us] | generator [us] | "
-        "IK [us] | controller [us] | of which feedback and stabilizers [us] | MuJoCo [us] |",
-        "|---|---|---|---:|---:|---:|---:|---:|---:|---:|",
+        "| robot | generator | command | real-time factor | floor: physics / simulation "
+        "(real-time factor) | estimator [us] | generator [us] | IK [us] | controller [us] | "
+        "controller overhead [us] | MuJoCo and sensors [us] |",
+        "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for c in cases:
         lines.append(
             f"| {c.robot} | {c.generator} | {c.command[0]:g}, {c.command[1]:g}, {c.command[2]:.2f} | "
-            f"{c.real_time_factor:.1f} | {c.estimator_tick_us:.0f} | {c.generator_tick_us:.0f} | "
-            f"{c.ik_tick_us:.0f} | {c.controller_tick_us:.0f} | "
-            f"{c.controller_tick_us - c.generator_tick_us - c.ik_tick_us:.0f} | "
+            f"{c.real_time_factor:.1f} | {c.physics_floor_rtf:.0f} / {c.simulation_floor_rtf:.0f} | "
+            f"{c.estimator_tick_us:.0f} | {c.generator_tick_us:.0f} | {c.ik_tick_us:.0f} | "
+            f"{c.controller_tick_us:.0f} | {c.controller_overhead_us:.0f} | "
             f"{c.mujoco_step_us:.0f} |"
         )
     return "\n".join(lines)
@@ -170,15 +262,19 @@ def _run_loop_command(args) -> int:
     text = (
         f"The walks of the robots/MuJoCo issue in MuJoCo, control period 10 ms, one process, "
         f"walks one after the other, on the estimated state with the default sensor noise and "
-        f"latency; medians per tick (the feedback and stabilizers' share: the controller's "
-        f"tick less the generator's and the IK's medians). Machine: {machine_description()}.\n"
+        f"latency; medians per tick. Floor: the same robot standing in the same simulation, "
+        f"its actuators holding the nominal posture, no controller: MuJoCo's steps alone, "
+        f"then with the ground truth and sensor readings of each period. Controller overhead: "
+        f"the control tick (controller and estimator) less the generator, the estimator and "
+        f"the IK. Machine: {machine_description()}.\n"
         f"Command: `mpcwalk bench loop --out {args.out}`\n\n"
         + format_loop_table(cases)
         + "\n\nIK tick, ours beside pink on the same tasks, robot and motion (same run):\n\n"
         + format_ik_table(ik)
         + "\n"
     )
-    payload: dict[str, list] = {"walks": [asdict(c) for c in cases], "ik": [asdict(r) for r in ik]}
+    walks = [{**asdict(c), "controller_overhead_us": c.controller_overhead_us} for c in cases]
+    payload: dict[str, list] = {"walks": walks, "ik": [asdict(r) for r in ik]}
     write_bench_output(args.out, "loop", text, payload)
     return 0
 

@@ -64,6 +64,7 @@ def _cases(solvers: Sequence[str] | None, include_peer: bool):
         ("analytic", "analytic", "", {}),
         ("static (slow timing)", "static", "", {}),
         ("preview", "preview", "", {}),
+        ("mpc daqp-direct (default)", "mpc", "daqp-direct", {"solver": "daqp-direct"}),
         ("mpc osqp-direct", "mpc", "osqp-direct", {"solver": "osqp-direct"}),
         ("mpc casadi", "mpc", "casadi", {"solver": "casadi"}),
     ]

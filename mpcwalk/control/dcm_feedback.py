@@ -175,7 +175,7 @@ class DcmFeedback:
             weights: Share of the weight on the left and right feet.
         """
         positions, yaws = sole_positions, sole_yaws
-        planned = self.schedule.feet_on_ground(t)
+        planned = self.schedule.phase(t).feet
         position, velocity, total = np.zeros(2), np.zeros(2), 0.0
         for index, (side, weight) in enumerate(zip((Side.LEFT, Side.RIGHT), weights)):
             if side not in planned or weight <= 0.0:
@@ -189,7 +189,7 @@ class DcmFeedback:
             total += weight
         if total <= 0.0:
             return measured
-        return ComState(position / total, velocity / total)
+        return ComState.trusted(position / total, velocity / total)
 
     def observe(
         self,
@@ -207,8 +207,8 @@ class DcmFeedback:
         if state is not None:
             weights = support_weights(references.zmp_command, references.feet)
             measured = self.anchor(measured, state.sole_positions, state.sole_yaws, t, weights)
-        if com_offset is not None and np.any(com_offset):
-            measured = ComState(measured.position + com_offset, measured.velocity)
+        if com_offset is not None and (com_offset[0] or com_offset[1]):
+            measured = ComState.trusted(measured.position + com_offset, measured.velocity)
         return self.compare(measured, references.generator)
 
     def compare(
@@ -218,10 +218,10 @@ class DcmFeedback:
         CoM state against the reference of the same time."""
         error_p = measured.position - reference.com
         error_v = measured.velocity - reference.com_velocity
-        estimate = ComState(
+        estimate = ComState.trusted(
             reference.com + self.observer_gain * error_p,
             reference.com_velocity + self.observer_gain * error_v,
-            reference.com_acceleration,
+            np.array(reference.com_acceleration, dtype=float),
         )
         return estimate, error_p + error_v / self.omega
 
@@ -244,10 +244,10 @@ class DcmFeedback:
         balance stabilizer's integral term), inside the support polygon."""
         desired = np.array(zmp, dtype=float)
         moved = False
-        if dcm_error is not None and np.any(dcm_error):
+        if dcm_error is not None and (dcm_error[0] or dcm_error[1]):
             desired += self.dcm_gain * np.asarray(dcm_error)
             moved = True
-        if shift is not None and np.any(shift):
+        if shift is not None and (shift[0] or shift[1]):
             desired += shift
             moved = True
         return self.clamp(t, desired) if moved else desired
@@ -255,9 +255,9 @@ class DcmFeedback:
     def clamp(self, t: float, zmp: np.ndarray) -> np.ndarray:
         """``zmp`` moved inside the planned support polygon at ``t``, ``zmp_margin`` from its
         edges."""
-        index = int(self.schedule.phase_index(t))
+        index = self.schedule.phase_at(t)
         polygon = self.schedule.phases[index].polygon
-        if np.all(polygon.A @ zmp <= polygon.b - self.zmp_margin):
+        if (polygon.A @ zmp <= polygon.b - self.zmp_margin).all():
             return zmp
         if index not in self._shrunk:
             self._shrunk[index] = shrink_polygon(polygon.vertices, self.zmp_margin)

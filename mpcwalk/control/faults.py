@@ -20,6 +20,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from mpcwalk._checks import all_finite
 from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.exceptions import ConfigurationError, ControllerStopped, NoSolutionFound
 from mpcwalk.generators.pattern_generator import GeneratorOutput, PatternGenerator
@@ -47,8 +48,7 @@ def estimate_is_finite(state: EstimatedState | ComState | None) -> bool:
         state.sensors.imu.gyro,
         state.sensors.imu.accelerometer,
     )
-    scalars = (state.roll, state.pitch, state.yaw)
-    return all(np.all(np.isfinite(v)) for v in values) and bool(np.all(np.isfinite(scalars)))
+    return all_finite(values, (state.roll, state.pitch, state.yaw))
 
 
 def step_generator(
@@ -129,7 +129,7 @@ class FaultMonitor:
 
     def ik(self, q_next: np.ndarray, q_hold: np.ndarray) -> np.ndarray:
         """``q_next`` if finite, else ``q_hold`` (an IK failure)."""
-        if np.all(np.isfinite(q_next)):
+        if all_finite((q_next,)):
             return q_next
         self.ik_failures += 1
         self._tick_faults.append("non-finite IK output")
@@ -137,7 +137,7 @@ class FaultMonitor:
 
     def joint_targets(self, targets: np.ndarray, hold: np.ndarray) -> np.ndarray:
         """``targets`` if finite, else ``hold`` (the last good targets)."""
-        if np.all(np.isfinite(targets)):
+        if all_finite((targets,)):
             return targets
         self.target_faults += 1
         self._tick_faults.append("non-finite joint targets")

@@ -9,6 +9,7 @@ whole-body IK gets them.
 from dataclasses import dataclass
 
 import numpy as np
+import pinocchio as pin
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Side
@@ -36,11 +37,22 @@ class GaitTargets:
 
     def ik_targets(self, ground_height: float, com_height: float) -> IKTargets:
         """IK targets: the CoM ``com_height`` [m] above ``ground_height`` [m], the soles flat,
-        the torso upright at the yaw."""
-        c, s = np.cos(self.torso_yaw), np.sin(self.torso_yaw)
-        torso = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        the torso upright at the yaw (valid by construction: built without the checks of
+        ``IKTargets(...)``)."""
         com = np.array([self.com_xy[0], self.com_xy[1], ground_height + com_height])
-        return IKTargets(com, self.feet.left.transform, self.feet.right.transform, torso)
+        left, right = self.feet.left, self.feet.right
+        return IKTargets.trusted(
+            com,
+            pin.SE3(_yaw_rotation(left.yaw), np.array(left.position, dtype=float)),
+            pin.SE3(_yaw_rotation(right.yaw), np.array(right.position, dtype=float)),
+            _yaw_rotation(self.torso_yaw),
+        )
+
+
+def _yaw_rotation(yaw: float) -> np.ndarray:
+    """Rotation matrix of ``yaw`` [rad] about the world z axis."""
+    c, s = np.cos(yaw), np.sin(yaw)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 class GaitReference:
@@ -85,12 +97,10 @@ class GaitReference:
 
     def targets(self, t: float, com_xy: np.ndarray) -> GaitTargets:
         """Feet and torso-yaw targets at ``t`` [s], with the CoM ``com_xy`` [m]."""
-        return GaitTargets(
-            self.trajectory.foot_poses(t), com_xy, float(self.trajectory.torso_yaw(t))
-        )
+        feet, yaw = self.trajectory.references(t)
+        return GaitTargets(feet, com_xy, float(yaw))
 
     def ik_targets(self, gait: GaitTargets, t: float) -> IKTargets:
         """IK targets of ``gait`` at ``t``: the CoM at the CoM height above the mean height of
         the footsteps planned on the ground."""
-        ground = float(np.mean([foot.position[2] for foot in self.schedule.stance(t).values()]))
-        return gait.ik_targets(ground, self.com_height)
+        return gait.ik_targets(self.schedule.ground_height(t), self.com_height)

@@ -28,6 +28,7 @@ from collections.abc import Sequence
 
 import numpy as np
 import pinocchio as pin
+from scipy.linalg import lapack
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.robot import Robot
@@ -117,7 +118,10 @@ class ServoFeedforward:
             for i, w, f in feet
         ]
         schur = sum(w * jacobian[:, :6].T @ jacobian[:, :6] for _, w, jacobian in jacobians)
-        multiplier = np.linalg.solve(schur, generalized[:6])
+        # LAPACK's LU solve, as np.linalg.solve, without its wrapping
+        _, _, multiplier, info = lapack.dgesv(schur, generalized[:6])
+        if info != 0:
+            multiplier = np.linalg.solve(schur, generalized[:6])  # raises LinAlgError
         for i, w, jacobian in jacobians:
             wrenches[i] = w * jacobian[:, :6] @ multiplier
             torques -= jacobian[:, 6:].T @ wrenches[i]

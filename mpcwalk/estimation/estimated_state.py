@@ -105,4 +105,6 @@ class EstimatedState:
 
     def com_state(self) -> ComState:
         """Horizontal CoM state for a pattern generator (acceleration left unknown)."""
-        return ComState(position=self.com[:2], velocity=self.com_velocity[:2])
+        return ComState.trusted(
+            np.array(self.com[:2], dtype=float), np.array(self.com_velocity[:2], dtype=float)
+        )

@@ -19,7 +19,7 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
-from mpcwalk._checks import frozen_array
+from mpcwalk._checks import freeze, frozen_array
 from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.robot.robot import Robot
 from mpcwalk.robot.sensors import FootContact, ForceTorqueReading, SensorReadings
@@ -41,7 +41,7 @@ def rpy_of(rotation: np.ndarray) -> tuple[float, float, float]:
 def cross_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``a x b`` row by row, shapes (3,) or (n, 3) broadcast (np.cross is slow on small
     arrays)."""
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out = np.empty(a.shape if a.ndim >= b.ndim else b.shape)  # (3,) or (n, 3), broadcast
     out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
     out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
     out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
@@ -164,8 +164,10 @@ class BaseKinematics:
                 total += float(foot.force[2])
                 weighted += float(foot.force[2]) * foot.cop
         has_cop = total > 0.0
-        cop = frozen_array(weighted / total) if has_cop else _NAN3
-        joints = frozen_array(readings.joint_positions)
+        cop = freeze(weighted / total) if has_cop else _NAN3
+        joints = readings.joint_positions
+        if joints.flags.writeable:
+            joints = frozen_array(joints)
         joint_velocities = frozen_array(relative.joint_velocities)
         quaternion = pin.Quaternion(rotation).normalized()
         q = np.concatenate([position, quaternion.coeffs(), joints])
@@ -175,8 +177,8 @@ class BaseKinematics:
             time=float(readings.time),
             source="estimator",
             sensors=readings,
-            q=frozen_array(q),
-            v=frozen_array(v),
+            q=freeze(q),
+            v=freeze(v),
             base_position=frozen_array(position),
             base_rotation=frozen_array(rotation),
             base_linear_velocity=frozen_array(velocity),
@@ -187,13 +189,13 @@ class BaseKinematics:
             right_foot=feet[1],
             cop=cop,
             has_cop=has_cop,
-            com=frozen_array(com),
-            com_velocity=frozen_array(com_velocity),
-            dcm=frozen_array(com[:2] + com_velocity[:2] / omega),
+            com=freeze(com),
+            com_velocity=freeze(com_velocity),
+            dcm=freeze(com[:2] + com_velocity[:2] / omega),
             joint_positions=joints,
             joint_velocities=joint_velocities,
-            sole_positions=frozen_array(sole_positions),
-            sole_rotations=frozen_array(sole_rotations),
+            sole_positions=freeze(sole_positions),
+            sole_rotations=freeze(sole_rotations),
         )
 
     @staticmethod
@@ -213,10 +215,10 @@ class BaseKinematics:
         cop = _NAN3
         if in_contact and force[2] > 0.0:
             local = np.array((-torque[1] / force[2], torque[0] / force[2], 0.0))
-            cop = frozen_array(sole_position + sole_rotation @ local)
+            cop = freeze(sole_position + sole_rotation @ local)
         return FootContact(
-            force=frozen_array(sole_rotation @ force),
-            torque=frozen_array(sole_rotation @ torque),
+            force=freeze(sole_rotation @ force),
+            torque=freeze(sole_rotation @ torque),
             cop=cop,
             in_contact=in_contact,
         )

@@ -8,6 +8,7 @@ until ``t_b``, single support until ``t_e``, double support until ``T``
 ``timing.final_duration``.
 """
 
+import bisect
 from dataclasses import dataclass
 from typing import Optional
 
@@ -52,6 +53,15 @@ class Phase:
         return self.end - self.start
 
 
+def _center(feet: dict[Side, Footstep]) -> np.ndarray:
+    """Mean of the feet's (x, y), as ``np.mean(..., axis=0)`` computes it (the sum over the
+    feet, divided by their number)."""
+    points = [foot.xy for foot in feet.values()]
+    if len(points) == 1:
+        return points[0] / 1.0
+    return (points[0] + points[1]) / 2.0 if len(points) == 2 else np.mean(points, axis=0)
+
+
 class ContactSchedule:
     """Phases of a footstep plan with fast vectorised queries.
 
@@ -78,6 +88,9 @@ class ContactSchedule:
         reused = reuse if reuse is not None and reuse.foot == foot else None
         self._reused_polygons = reused._polygons if reused is not None else {}
         self._reused_padded = reused._padded if reused is not None else {}
+        # Polygons at the origin by shape (yaws, and the second foot's offset): a footstep
+        # moved without turning is its shape translated (shared along the reuse chain)
+        self._shapes: dict[tuple, SupportPolygon] = reused._shapes if reused is not None else {}
         timing = plan.timing
         self.step_duration = timing.step_duration
         self.t_b = timing.single_support_begin
@@ -90,6 +103,7 @@ class ContactSchedule:
         self._phase_keys: list[tuple] = []
         self.phases: list[Phase] = self._build_phases()
         self._phase_starts = np.array([ph.start for ph in self.phases])
+        self._phase_start_list = [float(start) for start in self._phase_starts]
         A, b = zip(
             *(
                 self._padded_halfplanes(key, ph.polygon)
@@ -98,6 +112,8 @@ class ContactSchedule:
         )
         self._phase_A = np.array(A)
         self._phase_b = np.array(b)
+        self._phase_A.setflags(write=False)
+        self._phase_b.setflags(write=False)
         self._phase_single = np.array([ph.single_support for ph in self.phases])
         # Waypoints of paper M's ZMP reference: x_t[k] (midpoint of the feet at
         # each step boundary) and x_s[k] (support foot of step k).
@@ -108,9 +124,7 @@ class ContactSchedule:
             [plan.support_foot(k).xy for k in range(plan.nb_steps)]
         ).reshape(-1, 2)
         #: Support centre of each phase (support foot, or midpoint of the feet), (n_phases, 2).
-        self.phase_centers = np.array(
-            [np.mean([f.xy for f in ph.feet.values()], axis=0) for ph in self.phases]
-        )
+        self.phase_centers = np.array([_center(ph.feet) for ph in self.phases])
         # The ZMP reference is piecewise linear with breakpoints at phase
         # boundaries: tabulate it there (and just before each, in case it jumps,
         # as with no double support) so that queries are one interpolation.
@@ -157,19 +171,52 @@ class ContactSchedule:
         return padded
 
     def _rect(self, foot: Footstep) -> SupportPolygon:
+        yaw = float(foot.yaw)
         return self._polygon(
             self._pose_key(foot),
-            lambda: foot_rectangle(foot.xy, foot.yaw, self.foot.length, self.foot.width),
+            lambda: self._translated(
+                (yaw,),
+                foot.xy,
+                lambda: foot_rectangle((0.0, 0.0), yaw, self.foot.length, self.foot.width),
+            ),
         )
+
+    def _hull(self, feet: dict[Side, Footstep]) -> SupportPolygon:
+        """Support polygon of both feet: the hull of their rectangles, built at the origin
+        once per shape (the yaws and the offset between the feet, to 1e-12 m)."""
+        first, second = feet.values()
+        yaws = (float(first.yaw), float(second.yaw))
+        offset = second.xy - first.xy
+        shape = (*yaws, round(float(offset[0]), 12), round(float(offset[1]), 12))
+
+        def local() -> SupportPolygon:
+            length, width = self.foot.length, self.foot.width
+            return SupportPolygon.union_hull(
+                (
+                    foot_rectangle((0.0, 0.0), yaws[0], length, width),
+                    foot_rectangle(offset, yaws[1], length, width),
+                )
+            )
+
+        return self._translated(shape, first.xy, local)
+
+    def _translated(self, shape: tuple, position: np.ndarray, build) -> SupportPolygon:
+        """The polygon of ``shape`` (built at the origin by ``build`` the first time) moved to
+        ``position`` (x, y) [m]."""
+        polygon = self._shapes.get(shape)
+        if polygon is None:
+            polygon = self._shapes[shape] = build()
+        xy = np.asarray(position, dtype=float)[:2]
+        return SupportPolygon(polygon.vertices + xy, polygon.A, polygon.b + polygon.A @ xy)
 
     def _build_phases(self) -> list[Phase]:
         plan, T = self.plan, self.step_duration
         phases: list[Phase] = []
 
         def double(start, end, k, stance_index):
-            st, rects = self._stances[stance_index], self._rects[stance_index]
+            st = self._stances[stance_index]
             key = tuple(self._pose_key(f) for f in st.values())
-            poly = self._polygon(key, lambda: SupportPolygon.union_hull(rects.values()))
+            poly = self._polygon(key, lambda: self._hull(st))
             self._phase_keys.append(key)
             phases.append(Phase(start, end, k, False, None, dict(st), poly))
 
@@ -204,9 +251,15 @@ class ContactSchedule:
         idx = np.searchsorted(self._phase_starts, np.asarray(times, dtype=float), side="right") - 1
         return np.clip(idx, 0, len(self.phases) - 1)
 
+    def phase_at(self, t: float) -> int:
+        """Index into :attr:`phases` of the scalar time ``t`` [s] (clamped to the schedule);
+        :meth:`phase_index` for one time, without numpy."""
+        index = bisect.bisect_right(self._phase_start_list, t) - 1
+        return 0 if index < 0 else index
+
     def phase(self, t: float) -> Phase:
         """Phase active at time ``t`` [s]."""
-        return self.phases[int(self.phase_index(t))]
+        return self.phases[self.phase_at(t)]
 
     def step_index(self, t: float) -> int:
         """Step active at ``t``: -1 before the walk, ``nb_steps`` after it."""
@@ -240,6 +293,13 @@ class ContactSchedule:
         """
         idx = self.phase_index(times)
         return self._phase_A[idx], self._phase_b[idx]
+
+    @property
+    def phase_halfplanes(self) -> tuple[np.ndarray, np.ndarray]:
+        """Padded half-planes of every phase's polygon, ``(A, b)`` of shapes
+        (nb_phases, MAX_POLYGON_EDGES, 2) and (nb_phases, MAX_POLYGON_EDGES) (read-only
+        views: computed once per schedule)."""
+        return self._phase_A, self._phase_b
 
     def support_center(self, times) -> np.ndarray:
         """Centre of the support foot in single support, midpoint of the feet in
@@ -318,7 +378,21 @@ class ContactSchedule:
         """Feet in contact at ``t`` (one in single support, two otherwise)."""
         return dict(self.phase(t).feet)
 
+    def _stance_index(self, t: float) -> int:
+        k = self.step_index(t)
+        return max(k, 0) if k < self.plan.nb_steps else len(self._stances) - 1
+
     def stance(self, t: float) -> dict[Side, Footstep]:
         """Last landed pose of both feet at ``t`` (the swing foot: its lift pose)."""
-        k = self.step_index(t)
-        return dict(self._stances[max(k, 0)] if k < self.plan.nb_steps else self._stances[-1])
+        return dict(self._stances[self._stance_index(t)])
+
+    def ground_height(self, t: float) -> float:
+        """Mean height [m] of the two footsteps of :meth:`stance` at ``t`` (tabulated per
+        stance)."""
+        heights = self.__dict__.get("_stance_heights")
+        if heights is None:
+            heights = self.__dict__["_stance_heights"] = [
+                float(np.mean([foot.position[2] for foot in stance.values()]))
+                for stance in self._stances
+            ]
+        return heights[self._stance_index(t)]

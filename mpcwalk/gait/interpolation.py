@@ -165,3 +165,32 @@ def swing_height_profile_derivative(
     inside = (ratio >= 0.0) & (ratio < 1.0)
     rate = np.pi / width * np.sin(2.0 * np.pi * np.clip(ratio, 0.0, 1.0))
     return _output(np.where(inside, rate, 0.0) / step_duration, phi)
+
+
+def step_interpolation_scalar(
+    phi: float, phi_b: float, phi_e: float, step_duration: float
+) -> tuple[float, float]:
+    """``h`` and ``dh/dt`` (:func:`step_interpolation` and its derivative) at one phase,
+    without the checks and arrays of the vectorised functions (the per-tick path: the
+    window and the duration come from a checked schedule). Same operations, same values."""
+    width = phi_e - phi_b
+    ratio = (phi - phi_b) / width
+    clipped = min(max(ratio, 0.0), 1.0)
+    h = float(0.5 * (1.0 - np.cos(np.pi * clipped)))
+    if not 0.0 <= ratio < 1.0:
+        return h, 0.0
+    return h, float(0.5 * np.pi / width * np.sin(np.pi * clipped) / step_duration)
+
+
+def swing_height_scalar(
+    phi: float, phi_b: float, phi_e: float, step_duration: float
+) -> tuple[float, float]:
+    """``v`` and ``dv/dt`` (:func:`swing_height_profile` and its derivative) at one phase,
+    as :func:`step_interpolation_scalar`."""
+    width = phi_e - phi_b
+    ratio = (phi - phi_b) / width
+    if not 0.0 <= ratio < 1.0:
+        return 0.0, 0.0
+    clipped = min(max(ratio, 0.0), 1.0)
+    v = float(0.5 * (1.0 - np.cos(2.0 * np.pi * clipped)))
+    return v, float(np.pi / width * np.sin(2.0 * np.pi * clipped) / step_duration)

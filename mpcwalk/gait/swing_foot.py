@@ -15,6 +15,7 @@ does not change in double support. Velocities are the analytic time
 derivatives of these expressions.
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,13 +23,8 @@ import numpy as np
 from mpcwalk._checks import as_float, frozen_array
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Footstep, Side, wrap_angle
-from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.gait.interpolation import (
-    step_interpolation,
-    step_interpolation_derivative,
-    swing_height_profile,
-    swing_height_profile_derivative,
-)
+from mpcwalk.gait.contact_schedule import ContactSchedule, Phase
+from mpcwalk.gait.interpolation import step_interpolation_scalar, swing_height_scalar
 
 
 @dataclass(frozen=True)
@@ -149,6 +145,7 @@ class SwingFootTrajectory:
         self.torso_yaws = self._torso_waypoint_yaws()
         # step index -> (h, horizontal position (2,), yaw) the swing restarts from
         self._restarts: dict[int, tuple[float, np.ndarray, float]] = {}
+        self._static_states: dict[int, tuple[Footstep, FootState]] = {}
 
     def restart_swing(self, t: float, foot: FootState) -> None:
         """Continue the swing in progress at ``t`` from ``foot`` (its pose then) towards
@@ -180,8 +177,9 @@ class SwingFootTrajectory:
             yaws.append(mean)
         return frozen_array(yaws)
 
-    def _interpolants(self, t: float) -> tuple[int, float, float]:
-        """Active step, ``h`` and ``dh/dt`` at time ``t``.
+    def _interpolants(self, t: float, phase: Phase | None = None) -> tuple[int, float, float]:
+        """Active step, ``h`` and ``dh/dt`` at time ``t`` (``phase``: the schedule's phase
+        at ``t``, when the caller has it).
 
         In double support ``h`` is exactly 0 or 1 and ``dh/dt`` exactly 0, as
         the schedule's phases say (robust to the rounding of ``phi`` at the
@@ -191,18 +189,17 @@ class SwingFootTrajectory:
         if k < 0 or k >= self.schedule.plan.nb_steps:
             return k, 0.0, 0.0
         phi = self.schedule.step_phase(t)
-        if not self.schedule.phase(t).single_support:
+        if phase is None:
+            phase = self.schedule.phase(t)
+        if not phase.single_support:
             return k, (0.0 if phi < 0.5 else 1.0), 0.0
-        h = step_interpolation(phi, self.phi_b, self.phi_e)
-        dh = step_interpolation_derivative(
-            phi, self.phi_b, self.phi_e, step_duration=self.step_duration
-        )
+        h, dh = step_interpolation_scalar(phi, self.phi_b, self.phi_e, self.step_duration)
         return k, h, dh
 
     @staticmethod
     def _check_time(t) -> float:
         t = as_float(t)
-        if not np.isfinite(t):
+        if not math.isfinite(t):
             raise ConfigurationError(f"Time must be a finite number of seconds, got {t!r}.")
         return t
 
@@ -213,19 +210,37 @@ class SwingFootTrajectory:
             The feet state. A foot on the ground sits exactly on its footstep
             with zero velocity; the swing foot follows eq. 21-23.
         """
+        return self._foot_poses(self._check_time(t))
+
+    def references(self, t: float) -> tuple[FeetState, float]:
+        """:meth:`foot_poses` and :meth:`torso_yaw` at ``t`` [s] in one call (the
+        controller's tick)."""
         t = self._check_time(t)
+        phase = self.schedule.phase(t)
+        return self._foot_poses(t, phase), self._torso_yaw(t, phase)
+
+    def _static(self, foot: Footstep) -> FootState:
+        """The state of a foot resting on ``foot`` (built once per footstep: read-only)."""
+        cached = self._static_states.get(id(foot))
+        if cached is None or cached[0] is not foot:
+            cached = self._static_states[id(foot)] = (foot, _static_state(foot))
+        return cached[1]
+
+    def _foot_poses(self, t: float, phase: Phase | None = None) -> FeetState:
         schedule = self.schedule
-        k, h, dh = self._interpolants(t)
+        if phase is None:
+            phase = schedule.phase(t)
+        k, h, dh = self._interpolants(t, phase)
         stance = schedule.stance(t)
-        in_contact = schedule.phase(t).feet
-        states: dict[Side, FootState] = {side: _static_state(foot) for side, foot in stance.items()}
+        in_contact = phase.feet
+        states: dict[Side, FootState] = {side: self._static(foot) for side, foot in stance.items()}
         if 0 <= k < schedule.plan.nb_steps:
             landing = schedule.plan.steps[k]
             swing = landing.side
             lift = stance[swing]
             if swing in in_contact:
                 phi = schedule.step_phase(t)
-                states[swing] = _static_state(lift if phi < 0.5 else landing)
+                states[swing] = self._static(lift if phi < 0.5 else landing)
             else:
                 states[swing] = self._swing_state(t, lift, landing, h, dh)
                 if k in self._restarts:
@@ -241,10 +256,7 @@ class SwingFootTrajectory:
         if self.profile == "ctraj":
             h, dh, v, dv = self._ctraj_interpolants(phi)
             return self._blend(lift, landing, h, dh, v, dv)
-        v = swing_height_profile(phi, self.phi_b, self.phi_e)
-        dv = swing_height_profile_derivative(
-            phi, self.phi_b, self.phi_e, step_duration=self.step_duration
-        )
+        v, dv = swing_height_scalar(phi, self.phi_b, self.phi_e, self.step_duration)
         return self._blend(lift, landing, h, dh, v, dv)
 
     @staticmethod
@@ -324,8 +336,8 @@ class SwingFootTrajectory:
         flat = [function(self._check_time(x)) for x in times.ravel()]
         return np.array(flat).reshape(times.shape)
 
-    def _torso_yaw(self, t: float) -> float:
-        k, h, _ = self._interpolants(t)
+    def _torso_yaw(self, t: float, phase: Phase | None = None) -> float:
+        k, h, _ = self._interpolants(t, phase)
         psi = self.torso_yaws
         if k < 0:
             return float(psi[0])

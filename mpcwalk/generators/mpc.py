@@ -29,10 +29,12 @@ class MpcGenerator(RecedingHorizonGenerator):
         parameters: Horizon, weights, margins (default:
             :attr:`default_parameters`); keyword ``overrides`` replace fields
             of it, e.g. ``MpcGenerator(horizon=20, constrained=False)``.
-        solver: None (default) picks ``"daqp"`` for the dense formulation (the
-            fastest back-end measured on this problem, see ``mpcwalk bench
-            ticks``) and ``"osqp-direct"`` for the sparse one; ``"osqp-direct"``
-            (warm-started OSQP, vector-only updates), ``"casadi"`` or
+        solver: None (default) picks ``"daqp-direct"`` for the dense formulation
+            (DAQP's own workspace: the Hessian factorised once, vector-only updates,
+            hot start from the previous working set; the fastest back-end measured on
+            this problem, see ``mpcwalk bench ticks``) and ``"osqp-direct"`` for the
+            sparse one; ``"osqp-direct"`` (warm-started OSQP, vector-only updates),
+            ``"casadi"`` or
             ``"casadi-<plugin>"``, ``"kkt"`` (unconstrained QPs only) or any
             ``qpsolvers`` name (``"daqp"``, ``"proxqp"``, ``"quadprog"``...).
         formulation: ``"dense"`` (condensed) or ``"sparse"``.
@@ -111,7 +113,7 @@ class MpcGenerator(RecedingHorizonGenerator):
         params = parameters if parameters is not None else self.default_parameters
         self.parameters = params.replace(**overrides) if overrides else params
         if solver is None:
-            solver = "osqp-direct" if formulation == "sparse" else "daqp"
+            solver = "osqp-direct" if formulation == "sparse" else "daqp-direct"
         super().__init__(
             lipm=lipm,
             control_period=control_period,
@@ -140,7 +142,7 @@ class MpcGenerator(RecedingHorizonGenerator):
         x0 = self._start_state(measured)
         velocity_reference = None
         if self.track_walking_velocity and self.parameters.velocity_weight:
-            velocity_reference = schedule.reference_velocity(t + self.qp.sample_offsets)
+            velocity_reference = self.qp.walking_velocity(t, schedule)
         self.qp.update(x0, t, schedule, velocity_reference=velocity_reference)
         Ts = self.parameters.sampling_period
         shift = 0.0 if self._plan is None else (t - self._plan.start) / Ts
@@ -151,4 +153,8 @@ class MpcGenerator(RecedingHorizonGenerator):
 
     def _advance(self, x0: np.ndarray, jerks: np.ndarray, t: float, dt: float) -> np.ndarray:
         """The first jerk of the new plan over one control period."""
-        return self.cart_table.integrate(x0, jerks[0], dt)
+        transition = self.__dict__.get("_transition")
+        if transition is None or transition[0] != dt:
+            transition = self.__dict__["_transition"] = (dt, *self.cart_table.transition(dt))
+        _, A, B = transition
+        return A @ x0 + np.outer(B, jerks[0])

@@ -95,6 +95,34 @@ class IKTargets:
             if value is not None:
                 set_field(self, name, _as_vector(value, size, name))
 
+    @classmethod
+    def trusted(
+        cls,
+        com: np.ndarray,
+        left_sole: pin.SE3,
+        right_sole: pin.SE3,
+        torso_rotation: np.ndarray,
+        com_velocity: np.ndarray | None = None,
+        left_sole_velocity: np.ndarray | None = None,
+        right_sole_velocity: np.ndarray | None = None,
+        torso_angular_velocity: np.ndarray | None = None,
+    ) -> "IKTargets":
+        """Targets built without the checks of the constructor, for a caller whose values
+        are valid by construction (the controller's gait references, every tick): float
+        arrays of the right shapes, ``pinocchio.SE3`` soles, a rotation matrix. Validate at
+        the boundary, not on the hot path; anything else goes through ``IKTargets(...)``."""
+        targets = object.__new__(cls)
+        set_field = object.__setattr__
+        set_field(targets, "com", com)
+        set_field(targets, "left_sole", left_sole)
+        set_field(targets, "right_sole", right_sole)
+        set_field(targets, "torso_rotation", torso_rotation)
+        set_field(targets, "com_velocity", com_velocity)
+        set_field(targets, "left_sole_velocity", left_sole_velocity)
+        set_field(targets, "right_sole_velocity", right_sole_velocity)
+        set_field(targets, "torso_angular_velocity", torso_angular_velocity)
+        return targets
+
     @property
     def has_velocities(self) -> bool:
         """True when at least one feed-forward velocity is given."""

@@ -23,6 +23,10 @@ from mpcwalk._checks import as_float_array
 from mpcwalk.exceptions import ConfigurationError, FrameNotFound
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+_ZERO3 = np.zeros(3)
+_ZERO3.setflags(write=False)
+_ZERO6 = np.zeros(6)
+_ZERO6.setflags(write=False)
 
 
 def update_kinematics(model: pin.Model, data: pin.Data, q: np.ndarray) -> None:
@@ -114,6 +118,12 @@ class ComTask(Task):
             np.zeros(3) if velocity is None else finite_vector(velocity, 3, "CoM target velocity")
         )
 
+    def set_checked_target(self, com: np.ndarray, velocity: np.ndarray | None) -> None:
+        """:meth:`set_target` for values already checked (an :class:`IKTargets`'): finite
+        float arrays of shape (3,)."""
+        self.target = com
+        self.target_velocity = _ZERO3 if velocity is None else velocity
+
     def compute_error(self, model, data, q) -> np.ndarray:
         """``c(q) - c_target`` [m]."""
         return data.com[0] - self.target
@@ -193,6 +203,13 @@ class FrameTask(Task):
         self.target_velocity = (
             np.zeros(6) if velocity is None else finite_vector(velocity, 6, "frame target velocity")
         )
+
+    def set_checked_target(self, pose: pin.SE3, velocity: np.ndarray | None) -> None:
+        """:meth:`set_target` for values already checked (an :class:`IKTargets`'): an SE3
+        and a finite float array of shape (6,) or None."""
+        self.target = pose
+        self._target_rotation_t = pose.rotation.T.copy()
+        self.target_velocity = _ZERO6 if velocity is None else velocity
 
     def _rotation_error(self, data: pin.Data) -> np.ndarray:
         return data.oMf[self.frame_id].rotation @ self._target_rotation_t

@@ -16,6 +16,7 @@ failed QP never raises: the least-squares step clipped to the bounds (a feasible
 used and the result says so.
 """
 
+import math
 import time
 
 import numpy as np
@@ -124,6 +125,7 @@ class WholeBodyIK:
         self.tasks = (self.com_task, self.left_task, self.right_task, self.torso_task)
         self._rows = np.cumsum([0] + [task.dimension for task in self.tasks])
         self._task_weights = np.concatenate([task.weights for task in self.tasks])
+        self._task_weight_column = self._task_weights[:, None]
         self._error_starts = np.array([0, 3, 6, 9, 12, 15, 18])  # com, soles (p, R), torso
         self._blocks = [slice(self._rows[i], self._rows[i + 1]) for i in range(len(self.tasks))]
         self._A = np.zeros((self._rows[-1], model.nv))
@@ -158,19 +160,20 @@ class WholeBodyIK:
         return q, dt
 
     def _set_targets(self, targets: IKTargets) -> None:
-        self.com_task.set_target(targets.com, targets.com_velocity)
-        self.left_task.set_target(targets.left_sole, targets.left_sole_velocity)
-        self.right_task.set_target(targets.right_sole, targets.right_sole_velocity)
+        # IKTargets are checked when built (or trusted by construction): no checks here
+        self.com_task.set_checked_target(targets.com, targets.com_velocity)
+        self.left_task.set_checked_target(targets.left_sole, targets.left_sole_velocity)
+        self.right_task.set_checked_target(targets.right_sole, targets.right_sole_velocity)
         angular = targets.torso_angular_velocity
-        self.torso_task.set_target(
+        self.torso_task.set_checked_target(
             pin.SE3(targets.torso_rotation, np.zeros(3)),
             None if angular is None else np.concatenate([np.zeros(3), angular]),
         )
 
     def _errors(self, posture_error: np.ndarray) -> TaskErrors:
         norms = np.sqrt(np.add.reduceat(self._e * self._e, self._error_starts[:-1]))
-        com, left_p, left_o, right_p, right_o, torso = (float(norm) for norm in norms)
-        posture = float(np.linalg.norm(posture_error))
+        com, left_p, left_o, right_p, right_o, torso = norms.tolist()
+        posture = math.sqrt(float(posture_error.dot(posture_error)))  # np.linalg.norm
         return TaskErrors(com, left_p, left_o, right_p, right_o, torso, posture)
 
     def _main_error(self) -> float:
@@ -193,7 +196,7 @@ class WholeBodyIK:
         else:
             np.multiply(e, -gain, out=r)
         weights = self._task_weights
-        A *= weights[:, None]
+        A *= self._task_weight_column
         r *= weights
         weighted_error = gain * weights * e
         mu = self.lm_damping * float(weighted_error @ weighted_error)

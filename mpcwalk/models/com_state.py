@@ -39,6 +39,22 @@ class ComState:
                 self, "acceleration", _vec2(self.acceleration, "ComState.acceleration")
             )
 
+    @classmethod
+    def trusted(
+        cls,
+        position: np.ndarray,
+        velocity: np.ndarray,
+        acceleration: np.ndarray | None = None,
+    ) -> "ComState":
+        """A state built without the checks of the constructor, for values valid by
+        construction (float arrays of shape (2,) computed on the hot path: the
+        controller's measured and observed states, every tick)."""
+        state = object.__new__(cls)
+        object.__setattr__(state, "position", position)
+        object.__setattr__(state, "velocity", velocity)
+        object.__setattr__(state, "acceleration", acceleration)
+        return state
+
     def as_cart_table(self, default_acceleration=None) -> np.ndarray:
         """State matrix of shape (3, 2): rows position [m], velocity [m/s], acceleration
         [m/s^2] (``default_acceleration``, else zero, when the state has none)."""

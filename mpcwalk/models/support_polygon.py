@@ -20,9 +20,13 @@ def convex_hull(points: np.ndarray) -> np.ndarray:
         Hull vertices, shape (k, 2), counter-clockwise, k >= 3 for points in
         general position.
     """
-    pts = np.unique(np.asarray(points, dtype=float).reshape(-1, 2), axis=0)
+    array = np.asarray(points, dtype=float).reshape(-1, 2)
+    # the distinct points in lexicographic order (as np.unique(axis=0)), as Python floats:
+    # the chain below runs on a handful of points, where numpy scalars cost more than the
+    # arithmetic (the same IEEE operations, so the same hull)
+    pts = sorted(set(map(tuple, array.tolist())))
     if len(pts) < 3:
-        return pts
+        return np.array(pts, dtype=float).reshape(-1, 2)
 
     def cross(o, a, b):
         return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
@@ -33,11 +37,16 @@ def convex_hull(points: np.ndarray) -> np.ndarray:
             lower.pop()
         lower.append(p)
     upper: list = []
-    for p in pts[::-1]:
+    for p in reversed(pts):
         while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 1e-15:
             upper.pop()
         upper.append(p)
     return np.array(lower[:-1] + upper[:-1])
+
+
+def _next_rows(rows: np.ndarray) -> np.ndarray:
+    """``np.roll(rows, -1, axis=0)``: row ``i + 1`` at ``i``, the first row last."""
+    return np.concatenate((rows[1:], rows[:1]))
 
 
 @dataclass(frozen=True)
@@ -64,9 +73,9 @@ class SupportPolygon:
                 f"A support polygon needs at least 3 non-collinear vertices, got "
                 f"{len(hull)} distinct ones: {np.asarray(vertices).tolist()}."
             )
-        edges = np.roll(hull, -1, axis=0) - hull
+        edges = _next_rows(hull) - hull
         normals = np.stack([edges[:, 1], -edges[:, 0]], axis=1)
-        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+        normals /= np.sqrt(np.add.reduce(normals * normals, axis=1, keepdims=True))  # norm
         b = np.einsum("ij,ij->i", normals, hull)
         return SupportPolygon(vertices=hull, A=normals, b=b)
 
@@ -78,7 +87,7 @@ class SupportPolygon:
     @property
     def centroid(self) -> np.ndarray:
         """Area centroid, shape (2,), in [m]."""
-        v, w = self.vertices, np.roll(self.vertices, -1, axis=0)
+        v, w = self.vertices, _next_rows(self.vertices)
         cross = v[:, 0] * w[:, 1] - w[:, 0] * v[:, 1]
         area = 0.5 * cross.sum()
         return ((v + w) * cross[:, None]).sum(axis=0) / (6.0 * area)
@@ -106,7 +115,7 @@ class SupportPolygon:
         inner = (self.b[None, :] - pts @ self.A.T).min(axis=1)
         # Outside: exact distance to the nearest edge segment.
         a = self.vertices[None, :, :]
-        ab = np.roll(self.vertices, -1, axis=0)[None, :, :] - a
+        ab = _next_rows(self.vertices)[None, :, :] - a
         ap = pts[:, None, :] - a
         s = np.clip((ap * ab).sum(-1) / (ab * ab).sum(-1), 0.0, 1.0)
         closest = a + s[..., None] * ab

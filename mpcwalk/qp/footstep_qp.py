@@ -175,8 +175,15 @@ class FootstepQP:
         scale = 2.0 / np.max(np.diag(H))  # largest diagonal entry of P is 1
         P, q = np.zeros((self.n, self.n)), np.empty(self.n)
         zmp_free, vel_free = pred["Pzs"] @ x0, pred["Pvs"] @ x0  # (N, 2)
+        scaled = scale * H
         for a, cols in enumerate(self._columns):
-            P[np.ix_(cols, cols)] = scale * H
+            # P[np.ix_(cols, cols)] = scaled, block by block: the jerks and the footsteps
+            # of axis a are two ranges of columns
+            jerk, foot = slice(a * N, (a + 1) * N), slice(2 * N + a * nf, 2 * N + (a + 1) * nf)
+            P[jerk, jerk] = scaled[:N, :N]
+            P[jerk, foot] = scaled[:N, N:]
+            P[foot, jerk] = scaled[N:, :N]
+            P[foot, foot] = scaled[N:, N:]
             z_res = zmp_free[:, a] - centres[:, a]
             v_res = vel_free[:, a] - velocity_reference[:, a]
             q[cols[:N]] = scale * (
@@ -205,24 +212,34 @@ class FootstepQP:
             - np.einsum("ra,ra->r", normals, zmp_free)
         )
         active = np.flatnonzero(steps.active)
+        # four rows per active footstep j: +/- its local x, then +/- its local y, relative
+        # to its predecessor (a variable, or a fixed footstep moving the bound)
+        yaw = steps.predecessor_yaw[active]
+        c, s = np.cos(yaw), np.sin(yaw)
+        x_axis, y_axis = np.stack([c, s], axis=1), np.stack([-s, c], axis=1)
+        e = np.stack([x_axis, -x_axis, y_axis, -y_axis], axis=1)  # (r, 4, 2)
+        bounds = np.stack(
+            [
+                steps.upper[active, 0],
+                -steps.lower[active, 0],
+                steps.upper[active, 1],
+                -steps.lower[active, 1],
+            ],
+            axis=1,
+        )
+        rows = np.arange(4 * len(active)).reshape(-1, 4)
         G_reach = np.zeros((4 * len(active), self.n))
-        h_reach = np.empty(4 * len(active))
-        for r, j in enumerate(active):
-            yaw = steps.predecessor_yaw[j]
-            axes = np.array([[np.cos(yaw), np.sin(yaw)], [-np.sin(yaw), np.cos(yaw)]])
-            pred = steps.predecessor[j]
-            for k in range(2):  # local x, then local y
-                for sign, bound in ((1.0, steps.upper[j, k]), (-1.0, -steps.lower[j, k])):
-                    i = 4 * r + 2 * k + (sign < 0)
-                    e = sign * axes[k]
-                    G_reach[i, 2 * N + j] += e[0]
-                    G_reach[i, 2 * N + nf + j] += e[1]
-                    if pred >= 0:
-                        G_reach[i, 2 * N + pred] -= e[0]
-                        G_reach[i, 2 * N + nf + pred] -= e[1]
-                        h_reach[i] = bound
-                    else:
-                        h_reach[i] = bound + e @ steps.predecessor_xy[j]
+        G_reach[rows, (2 * N + active)[:, None]] += e[..., 0]
+        G_reach[rows, (2 * N + nf + active)[:, None]] += e[..., 1]
+        predecessor = steps.predecessor[active]
+        chained = predecessor >= 0
+        if chained.any():
+            p = predecessor[chained][:, None]
+            G_reach[rows[chained], 2 * N + p] -= e[chained, :, 0]
+            G_reach[rows[chained], 2 * N + nf + p] -= e[chained, :, 1]
+        fixed = steps.predecessor_xy[active]
+        moved = np.einsum("rka,ra->rk", e, fixed)
+        h_reach = np.where(chained[:, None], bounds, bounds + moved).ravel()
         return np.vstack([G_zmp, G_reach]), np.concatenate([h_zmp, h_reach])
 
     def problem(self, dense: bool = True) -> qpsolvers.Problem:
@@ -235,6 +252,11 @@ class FootstepQP:
         import scipy.sparse as sp
 
         return qpsolvers.Problem(sp.csc_matrix(self.P), self.q, sp.csc_matrix(self.G), self.h)
+
+    def dense_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(P, q, G, h)`` of the last :meth:`update` (the QP's own arrays)."""
+        self.require_update()
+        return self.P, self.q, self.G, self.h
 
     def require_update(self) -> None:
         """Raise NotReset before the first :meth:`update`."""

@@ -205,8 +205,9 @@ class FootstepSlots:
         )
         weights = np.zeros((len(times), nf + 1))  # last column: the fixed feet, dropped
         samples = np.arange(len(times))
-        np.add.at(weights, (samples, np.where(va >= 0, va, nf)), 1.0 - lam)
-        np.add.at(weights, (samples, np.where(vb >= 0, vb, nf)), lam)
+        # each sample once per statement: plain fancy-indexed sums (as np.add.at)
+        weights[samples, np.where(va >= 0, va, nf)] += 1.0 - lam
+        weights[samples, np.where(vb >= 0, vb, nf)] += lam
         weights = weights[:, :nf]
         moving = np.flatnonzero((va >= 0) | (vb >= 0))
         idx = self.current.phase_index(times + _BOUNDARY_EPS)

@@ -251,12 +251,31 @@ class CondensedLayout(_Layout):
 
     def q(self, x0, zmp_ref, velocity_ref, com_ref, com_weights) -> np.ndarray:
         p, s = self.parameters, 2.0 * self.cost_scale
+        if not np.any(com_weights):  # the tick's case: two products of precomputed maps
+            state_map, reference_map = self._q_maps()
+            g = state_map @ x0 - reference_map @ np.vstack([zmp_ref, velocity_ref])
+            return g.T.ravel()
         g = p.zmp_weight * self.Pzu.T @ (self.Pzs @ x0 - zmp_ref)
         if p.velocity_weight:
             g += p.velocity_weight * self.Pvu.T @ (self.Pvs @ x0 - velocity_ref)
         if np.any(com_weights):
             g += self.Ppu.T @ (com_weights[:, None] * (self.Pps @ x0 - com_ref))
         return s * g.T.ravel()
+
+    def _q_maps(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(state_map, reference_map)`` with ``g = state_map x0 - reference_map [Z; V]``
+        the gradient of one axis without CoM terms (cost scale included), shapes (N, 3) and
+        (N, 2N); computed once."""
+        maps = self.__dict__.get("_maps")
+        if maps is None:
+            p, s = self.parameters, 2.0 * self.cost_scale
+            state = p.zmp_weight * self.Pzu.T @ self.Pzs
+            reference = [p.zmp_weight * self.Pzu.T, np.zeros((self.N, self.N))]
+            if p.velocity_weight:
+                state = state + p.velocity_weight * self.Pvu.T @ self.Pvs
+                reference[1] = p.velocity_weight * self.Pvu.T
+            maps = self.__dict__["_maps"] = (s * state, s * np.hstack(reference))
+        return maps
 
     def bounds(self, x0, seq: SupportSequence) -> tuple[np.ndarray, np.ndarray]:
         return np.full(self.m, -np.inf), self.upper_bounds(x0, seq)
@@ -339,7 +358,8 @@ class SparseLayout(_Layout):
         gx = -p.zmp_weight * zmp_ref.T[..., None] * self.C
         if p.velocity_weight:
             gx[:, :, 1] -= p.velocity_weight * velocity_ref.T
-        gx[:, :, 0] -= com_weights[None, :] * com_ref.T
+        if com_ref is not None:  # None: no CoM term (zero weights)
+            gx[:, :, 0] -= com_weights[None, :] * com_ref.T
         return s * np.concatenate([np.zeros(2 * N), gx.ravel()])
 
     def bounds(self, x0, seq: SupportSequence) -> tuple[np.ndarray, np.ndarray]:

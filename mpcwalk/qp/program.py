@@ -75,6 +75,10 @@ class QuadraticProgram(Protocol):
     def problem(self, dense: bool = ...) -> qpsolvers.Problem:
         """The QP in qpsolvers form ``min 1/2 x'Px + q'x, G x <= h, A x = b``."""
 
+    def dense_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(P, q, G, h)`` of the inequality-only dense form, numpy arrays (no copy: the
+        QP's own, valid until the next :meth:`update`)."""
+
     def jerks(self, x: np.ndarray) -> np.ndarray:
         """CoM jerks of a solution, shape (N, 2), in [m]/[s]^3."""
 

@@ -25,6 +25,10 @@ class ScheduleTables:
         zmp_knots: ZMP reference at the knots, shape (k, 2), in [m].
         next_single: First single-support phase at or after each phase
             (``nb_phases`` if none), shape (nb_phases,).
+        step_velocities: Average walking velocity of each step, shape (nb_steps, 2), in
+            [m/s] (``ContactSchedule.reference_velocity``).
+        walk_start: Start of the first step, in [s].
+        step_duration: Step duration, in [s].
     """
 
     polygon_id: np.ndarray
@@ -35,26 +39,28 @@ class ScheduleTables:
     knots: np.ndarray
     zmp_knots: np.ndarray
     next_single: np.ndarray
+    step_velocities: np.ndarray
+    walk_start: float
+    step_duration: float
 
     @staticmethod
     def from_schedule(schedule: ContactSchedule) -> "ScheduleTables":
         """Tables of ``schedule`` (one pass over its phases)."""
         phases = schedule.phases
-        planes = [ph.polygon.padded_halfplanes(MAX_POLYGON_EDGES) for ph in phases]
-        A = np.array([p[0] for p in planes])
-        b = np.array([p[1] for p in planes])
+        A, b = schedule.phase_halfplanes  # padded to MAX_POLYGON_EDGES rows, per phase
+        same = np.all(A[1:] == A[:-1], axis=(1, 2)) & np.all(b[1:] == b[:-1], axis=1)
         polygon_id = np.arange(len(phases))
-        for i in range(1, len(phases)):
-            if np.array_equal(A[i], A[i - 1]) and np.array_equal(b[i], b[i - 1]):
-                polygon_id[i] = polygon_id[i - 1]
+        for i in np.flatnonzero(same) + 1:
+            polygon_id[i] = polygon_id[i - 1]
         single = np.array([ph.single_support for ph in phases])
         centers = schedule.phase_centers
         # Paper M's ZMP reference is piecewise linear: the schedule tabulates
         # it at its breakpoints; interpolate every tick.
         knots = schedule.zmp_breakpoints
         next_single = np.full(len(phases) + 1, len(phases))
-        for i in range(len(phases) - 1, -1, -1):
-            next_single[i] = i if single[i] else next_single[i + 1]
+        for j in range(len(phases) - 1, -1, -1):
+            next_single[j] = j if single[j] else next_single[j + 1]
+        waypoints, T = schedule.torso_waypoints, schedule.step_duration
         return ScheduleTables(
             polygon_id,
             A,
@@ -64,6 +70,9 @@ class ScheduleTables:
             knots,
             schedule.zmp_reference(knots),
             next_single[:-1],
+            (waypoints[1:] - waypoints[:-1]) / T,
+            float(schedule.walk_start),
+            float(T),
         )
 
     def com_phases(self, start: np.ndarray, end: np.ndarray) -> np.ndarray:
@@ -83,6 +92,15 @@ class ScheduleTables:
         """
         first = self.next_single[start]
         return np.where(first <= end, first, start)
+
+    def reference_velocity(self, times: np.ndarray) -> np.ndarray:
+        """Same values as ``ContactSchedule.reference_velocity`` (the average walking
+        velocity of each step, zero before and after the walk); shape (n, 2), in [m/s]."""
+        k = np.floor((times - self.walk_start) / self.step_duration).astype(int)
+        out = np.zeros((len(k), 2))
+        walking = (k >= 0) & (k < len(self.step_velocities))
+        out[walking] = self.step_velocities[k[walking]]
+        return out
 
     def zmp_reference(self, times: np.ndarray) -> np.ndarray:
         """Same values as ``ContactSchedule.zmp_reference``, by interpolation;

@@ -111,6 +111,8 @@ class WalkingQP:
         self.time = 0.0
         self._key: bytes | None = None
         self._cache: dict = {}
+        self._query = np.zeros(2 * self.N + 1)
+        self._bounds_map: tuple = (self.l, None, self.u, None)
 
     # ------------------------------------------------------------- update
     def update(
@@ -146,19 +148,18 @@ class WalkingQP:
                 "WalkingQP.update expects x0 of shape (3, 2) (rows position, velocity, "
                 f"acceleration; columns x, y) with finite values, got shape {x0.shape}."
             )
-        p, layout = self.parameters, self.layout
+        p, layout, N = self.parameters, self.layout, self.N
         times = t + self.sample_offsets
-        tables = self._tables
-        if schedule is not self._schedule or tables is None:
-            self._schedule, self._key = schedule, None
-            tables = self._tables = ScheduleTables.from_schedule(schedule)
-        tick = t + (self.control_period or 0.0)
-        all_idx = schedule.phase_index(
-            np.concatenate([[tick], times, times + p.sampling_period]) + _BOUNDARY_EPS
-        )
-        idx = all_idx[1 : self.N + 1]
-        com_idx = tables.com_phases(idx, all_idx[self.N + 1 :])
-        key = tables.polygon_id[np.concatenate([all_idx[: self.N + 1], com_idx])].tobytes()
+        tables = self.tables(schedule)
+        query = self._query
+        query[0] = t + (self.control_period or 0.0)
+        query[1 : N + 1] = times
+        np.add(times, p.sampling_period, out=query[N + 1 :])
+        query += _BOUNDARY_EPS
+        all_idx = schedule.phase_index(query)
+        idx = all_idx[1 : N + 1]
+        com_idx = tables.com_phases(idx, all_idx[N + 1 :])
+        key = tables.polygon_id[np.concatenate([all_idx[: N + 1], com_idx])].tobytes()
         changed = False
         if key != self._key:
             self._key = key
@@ -182,19 +183,54 @@ class WalkingQP:
                     self.P_data = layout.P_pattern.data(layout.P_values(weights))
                     self.P_version += 1
                     changed = True
+            self._bounds_map = self._affine_bounds(self.supports)
         zmp_ref = self._reference(zmp_reference, "zmp_reference")
         if zmp_ref is None:
-            zmp_ref = tables.zmp_reference(times) if p.zmp_weight else np.zeros((self.N, 2))
+            zmp_ref = tables.zmp_reference(times) if p.zmp_weight else np.zeros((N, 2))
         com_ref = self._reference(com_reference, "com_reference")
-        if com_ref is None:
+        if com_ref is None and self._com_weights.any():  # else the cost has no CoM term
             com_ref = tables.centers[idx]
         vel_ref = self._reference(velocity_reference, "velocity_reference")
         if vel_ref is None:
-            vel_ref = np.zeros((self.N, 2))
+            vel_ref = np.zeros((N, 2))
         self.q = layout.q(x0, zmp_ref, vel_ref, com_ref, self._com_weights)
-        self.l, self.u = layout.bounds(x0, self.supports)
+        l0, Kl, u0, Ku = self._bounds_map
+        state = x0.T.ravel()  # x0 of the x axis, then of the y axis
+        self.l = l0 if Kl is None else l0 + Kl @ state
+        self.u = u0 if Ku is None else u0 + Ku @ state
         self.x0, self.time, self.sample_times = x0.copy(), float(t), times
         return changed
+
+    def tables(self, schedule: ContactSchedule) -> ScheduleTables:
+        """Per-phase tables of ``schedule`` (built once per schedule)."""
+        if schedule is not self._schedule or self._tables is None:
+            self._schedule, self._key = schedule, None
+            self._tables = ScheduleTables.from_schedule(schedule)
+        return self._tables
+
+    def walking_velocity(self, t: float, schedule: ContactSchedule) -> np.ndarray:
+        """Average walking velocity of the step at each sample of a tick at ``t`` [s]
+        (``schedule.reference_velocity`` at the sample times), shape (N, 2), in [m/s]."""
+        return self.tables(schedule).reference_velocity(t + self.sample_offsets)
+
+    def _affine_bounds(self, supports: SupportSequence):
+        """``(l0, Kl, u0, Ku)`` with ``l = l0 + Kl s`` and ``u = u0 + Ku s``, ``s`` the
+        initial state ``x0.T.ravel()`` (the bounds are affine in it); a None matrix for
+        bounds that do not depend on it. Computed once per support sequence, so that a
+        tick costs two products."""
+        zero = np.zeros((3, 2))
+        l0, u0 = self.layout.bounds(zero, supports)
+        Kl, Ku = np.zeros((len(l0), 6)), np.zeros((len(u0), 6))
+        finite_l, finite_u = np.isfinite(l0), np.isfinite(u0)
+        for j in range(6):
+            basis = np.zeros(6)
+            basis[j] = 1.0
+            l, u = self.layout.bounds(basis.reshape(2, 3).T, supports)
+            Kl[finite_l, j] = l[finite_l] - l0[finite_l]
+            Ku[finite_u, j] = u[finite_u] - u0[finite_u]
+        l0.setflags(write=False)
+        u0.setflags(write=False)
+        return l0, Kl if Kl.any() else None, u0, Ku if Ku.any() else None
 
     def _reference(self, value, name: str) -> np.ndarray | None:
         if value is None:
@@ -282,6 +318,24 @@ class WalkingQP:
             )
             b = self.l[: self.m_eq]
         return qpsolvers.Problem(P, self.q, G, h, A, b)
+
+    def dense_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(P, q, G, h)`` of the dense form with inequality rows only (the condensed
+        layout's): ``P`` and ``G`` cached per matrix version, the QP's own vectors.
+
+        Raises:
+            ConfigurationError: The QP has equality rows (sparse layout).
+        """
+        self.require_update()
+        if self.m_eq:
+            raise ConfigurationError(
+                "dense_arrays() needs a QP without equality rows (formulation='dense')."
+            )
+        P = self._cached(
+            "P_dense", self.P_version, lambda: self.layout.P_pattern.dense(self.P_data)
+        )
+        G = self._cached("G_dense", self.A_version, lambda: self._G_rows.dense(self.A_data))
+        return P, self.q, G, self.u
 
     def require_update(self) -> None:
         """Raise NotReset before the first :meth:`update`."""

@@ -5,11 +5,12 @@ from collections.abc import Sequence
 import mujoco
 import numpy as np
 
-from mpcwalk._checks import frozen_array
+from mpcwalk._checks import freeze, frozen_array
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.sensors import FootContact
 
 _NAN3 = frozen_array([np.nan, np.nan, np.nan])
+_ZERO3 = frozen_array([0.0, 0.0, 0.0])
 _SIDES = np.arange(2)[:, None]
 _EDGES = np.arange(4)
 _CROSS_A = np.array([1, 2, 0])  # (a x b)_i = a_j b_k - a_k b_j for (i, j, k) cyclic
@@ -75,6 +76,8 @@ class ContactEstimator:
         self._site_list = list(self.site_ids)
         self._pyramidal = bool(mujoco.mj_isPyramidal(model))
         self._moments: bool | None = None
+        no_force = FootContact(_ZERO3, _ZERO3, _NAN3, False)
+        self._no_contact = (no_force, no_force, _NAN3, False)
 
     def measure(
         self, model: mujoco.MjModel, data: mujoco.MjData
@@ -87,17 +90,24 @@ class ContactEstimator:
             defined.
         """
         contacts, ncon = data.contact, data.ncon
+        if ncon == 0:
+            return self._no_contact
         feet_of = self._foot_of_geom[contacts.geom[:ncon]]  # (ncon, 2): foot of each geom
-        active = (contacts.efc_address[:ncon] >= 0) & (contacts.exclude[:ncon] == 0)
-        index = np.flatnonzero(active & (feet_of.max(axis=1) >= 0))
-        feet_of = feet_of[index]
         on_geom2 = feet_of[:, 1] >= 0  # the force on geom2 is along +normal
-        foot = np.where(on_geom2, feet_of[:, 1], feet_of[:, 0])
+        foot = np.where(on_geom2, feet_of[:, 1], feet_of[:, 0])  # -1: not a foot's contact
+        keep = (foot >= 0) & (contacts.efc_address[:ncon] >= 0) & (contacts.exclude[:ncon] == 0)
+        if keep.all():  # the usual case: every contact is a sole's, in the solver
+            index = np.arange(ncon)
+            frames = contacts.frame[:ncon].reshape(-1, 3, 3)  # rows: normal, tangents
+            points = contacts.pos[:ncon]
+        else:
+            index = np.flatnonzero(keep)
+            on_geom2, foot = on_geom2[index], foot[index]
+            frames = contacts.frame[index].reshape(-1, 3, 3)
+            points = contacts.pos[index]
         wrenches = self._contact_wrenches(model, data, index)  # contact frames
         sign = np.where(on_geom2, 1.0, -1.0)
-        frames = contacts.frame[index].reshape(-1, 3, 3)  # rows: normal, tangents
-        forces = sign[:, None] * np.einsum("nk,nkj->nj", wrenches[:, :3], frames)
-        points = contacts.pos[index]
+        forces = sign[:, None] * (wrenches[:, None, :3] @ frames)[:, 0]
         selector = (foot == _SIDES).astype(float)  # (2, n)
         force_sums = selector @ forces
         # sum_i (p_i - o) f_i^T per foot (o: sole origin): its skew part is the moment
@@ -108,17 +118,15 @@ class ContactEstimator:
         ) - origins[:, :, None] * force_sums[:, None, :]
         torque_sums = products[:, _CROSS_A, _CROSS_B] - products[:, _CROSS_B, _CROSS_A]
         if self._moments is not None:  # torsional/rolling moments of condim > 3 contacts
-            torque_sums += selector @ (
-                sign[:, None] * np.einsum("nk,nkj->nj", wrenches[:, 3:], frames)
-            )
+            torque_sums += selector @ (sign[:, None] * (wrenches[:, None, 3:] @ frames)[:, 0])
         weighted = products[:, :, 2] + origins * force_sums[:, 2:3]  # sum_i f_z,i p_i
         feet = []
         for side in range(2):
             cop, in_contact = self._cop(weighted[side], force_sums[side, 2])
             feet.append(
                 FootContact(
-                    force=frozen_array(force_sums[side]),
-                    torque=frozen_array(torque_sums[side]),
+                    force=freeze(force_sums[side].copy()),
+                    torque=freeze(torque_sums[side].copy()),
                     cop=cop,
                     in_contact=in_contact,
                 )
@@ -140,15 +148,18 @@ class ContactEstimator:
         contacts = data.contact
         wrenches = np.zeros((len(index), 6))
         three = contacts.dim[index] == 3
-        rows = contacts.efc_address[index[three]]
+        if three.all():  # the feet's contacts: no masks
+            rows, frictional, selected = contacts.efc_address[index], index, slice(None)
+        else:
+            rows, frictional, selected = contacts.efc_address[index[three]], index[three], three
         if self._pyramidal:
             edges = data.efc_force[rows[:, None] + _EDGES]
-            wrenches[three, 0] = edges.sum(axis=1)
-            wrenches[three, 1:3] = contacts.friction[index[three], :2] * (
+            wrenches[selected, 0] = edges.sum(axis=1)
+            wrenches[selected, 1:3] = contacts.friction[frictional, :2] * (
                 edges[:, 0::2] - edges[:, 1::2]
             )
         else:
-            wrenches[three, :3] = data.efc_force[rows[:, None] + _EDGES[:3]]
+            wrenches[selected, :3] = data.efc_force[rows[:, None] + _EDGES[:3]]
         others = np.flatnonzero(~three)
         for row in others:
             mujoco.mj_contactForce(model, data, int(index[row]), wrenches[row])
@@ -159,4 +170,4 @@ class ContactEstimator:
         """CoP ``sum_i f_z,i p_i / sum_i f_z,i`` (eq. 31) given both sums; NaN without contact."""
         if vertical_force <= self.contact_threshold or vertical_force <= 0.0:
             return _NAN3, False
-        return frozen_array(weighted_points / vertical_force), True
+        return freeze(weighted_points / vertical_force), True

@@ -14,7 +14,7 @@ an explicit switch (``state="oracle"``), for comparison.
 import mujoco
 import numpy as np
 
-from mpcwalk._checks import frozen_array
+from mpcwalk._checks import freeze, frozen_array
 from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.robot.robot import Robot
@@ -46,6 +46,8 @@ class GroundTruth:
         self.root_body = int(model.jnt_bodyid[0])
         self._gyro = _sensor_slice(model, "imu_gyro")
         self._accelerometer = _sensor_slice(model, "imu_accelerometer")
+        adjacent = self._gyro.stop == self._accelerometer.start
+        self._imu = slice(self._gyro.start, self._accelerometer.stop) if adjacent else None
         self._sites = list(self.contacts.site_ids)
         self._lipm = LIPM(com_height=robot.com_height)
         self.imu_mean: np.ndarray | None = None
@@ -57,7 +59,10 @@ class GroundTruth:
 
     def imu_now(self, data: mujoco.MjData) -> np.ndarray:
         """The instantaneous gyroscope [rad/s] and accelerometer [m/s^2] readings of the
-        last MuJoCo step, shape (6,)."""
+        last MuJoCo step, shape (6,) (a view into ``data`` when the two sensors are adjacent:
+        copy it to keep it)."""
+        if self._imu is not None:
+            return data.sensordata[self._imu]
         return np.concatenate((data.sensordata[self._gyro], data.sensordata[self._accelerometer]))
 
     def read(self, model: mujoco.MjModel, data: mujoco.MjData, time: float) -> EstimatedState:
@@ -75,11 +80,11 @@ class GroundTruth:
         mujoco.mj_forward(model, data)
         mujoco.mj_subtreeVel(model, data)
         robot, root = self.robot, self.root_body
-        q = robot.qpos_to_q(data.qpos)
-        v = robot.qvel_to_v(data.qpos, data.qvel)
+        q = freeze(robot.qpos_to_q(data.qpos))
+        v = freeze(robot.qvel_to_v(data.qpos, data.qvel))
         left, right, cop, has_cop = self.contacts.measure(model, data)
-        sole_positions = frozen_array(data.site_xpos[self._sites])
-        sole_rotations = frozen_array(data.site_xmat[self._sites], (2, 3, 3))
+        sole_positions = freeze(data.site_xpos[self._sites])  # fancy indexing: a copy
+        sole_rotations = freeze(data.site_xmat[self._sites].reshape(2, 3, 3))
         sensors = self._exact_readings(data, time, q, (left, right), sole_rotations)
         com = frozen_array(data.subtree_com[root])
         com_velocity = frozen_array(data.subtree_linvel[root])
@@ -88,8 +93,8 @@ class GroundTruth:
             time=float(time),
             source="oracle",
             sensors=sensors,
-            q=frozen_array(q),
-            v=frozen_array(v),
+            q=q,
+            v=v,
             base_position=frozen_array(data.xpos[root]),
             base_rotation=frozen_array(data.xmat[root], (3, 3)),
             base_linear_velocity=frozen_array(data.qvel[0:3]),
@@ -102,9 +107,9 @@ class GroundTruth:
             has_cop=has_cop,
             com=com,
             com_velocity=com_velocity,
-            dcm=frozen_array(self._lipm.dcm(com[:2], com_velocity[:2])),
-            joint_positions=frozen_array(q[7:]),
-            joint_velocities=frozen_array(v[6:]),
+            dcm=freeze(self._lipm.dcm(com[:2], com_velocity[:2])),
+            joint_positions=q[7:],
+            joint_velocities=v[6:],
             sole_positions=sole_positions,
             sole_rotations=sole_rotations,
         )
@@ -122,15 +127,14 @@ class GroundTruth:
         imu = self.imu_now(data) if self.imu_mean is None else self.imu_mean
         left, right = (
             ForceTorqueReading(
-                force=frozen_array(rotation.T @ foot.force),
-                torque=frozen_array(rotation.T @ foot.torque),
+                force=freeze(rotation.T @ foot.force), torque=freeze(rotation.T @ foot.torque)
             )
             for foot, rotation in zip(feet, sole_rotations)
         )
         return SensorReadings(
             time=float(time),
             imu=ImuReading(gyro=frozen_array(imu[:3]), accelerometer=frozen_array(imu[3:])),
-            joint_positions=frozen_array(q[7:]),
+            joint_positions=q[7:] if not q.flags.writeable else frozen_array(q[7:]),
             left_wrench=left,
             right_wrench=right,
         )

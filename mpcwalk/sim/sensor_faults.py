@@ -15,6 +15,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from mpcwalk._checks import all_finite
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.sensors import ForceTorqueReading, ImuReading, SensorReadings
 
@@ -93,4 +94,4 @@ def readings_are_finite(readings: SensorReadings | None) -> bool:
         readings.right_wrench.force,
         readings.right_wrench.torque,
     )
-    return bool(np.isfinite(readings.time)) and all(np.all(np.isfinite(v)) for v in values)
+    return all_finite(values, (readings.time,))

@@ -20,7 +20,7 @@ from collections import deque
 
 import numpy as np
 
-from mpcwalk._checks import frozen_array
+from mpcwalk._checks import freeze
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.sensors import ForceTorqueReading, ImuReading, SensorReadings
 from mpcwalk.sim.sensor_model import SensorModel
@@ -115,17 +115,16 @@ class SensorSimulator:
         if model.encoder_resolution > 0.0:
             encoders = model.encoder_resolution * np.round(encoders / model.encoder_resolution)
         wrenches = draw[12 + nj :].reshape(2, 2, 3)  # (left, right) x (force, torque)
-        left, right = (
+        left, right = (  # fresh arrays: frozen without a copy
             ForceTorqueReading(
-                force=frozen_array(wrench.force + noise[0]),
-                torque=frozen_array(wrench.torque + noise[1]),
+                force=freeze(wrench.force + noise[0]), torque=freeze(wrench.torque + noise[1])
             )
             for wrench, noise in zip(truth.wrenches, wrenches)
         )
         return SensorReadings(
             time=truth.time,
-            imu=ImuReading(gyro=frozen_array(gyro), accelerometer=frozen_array(accelerometer)),
-            joint_positions=frozen_array(encoders),
+            imu=ImuReading(gyro=freeze(gyro), accelerometer=freeze(accelerometer)),
+            joint_positions=freeze(encoders),
             left_wrench=left,
             right_wrench=right,
         )

@@ -212,6 +212,7 @@ class Simulation:
         if joint_targets is not None:
             self.data.ctrl[:] = self._ctrl_of(joint_targets)
         imu_sum = np.zeros(6)  # the IMU reports its readings averaged over the period
+        imu_now = self.ground_truth.imu_now
         for _ in range(self.nb_substeps):
             if self._disturbances:
                 self.data.xfrc_applied[:] = 0.0
@@ -222,7 +223,7 @@ class Simulation:
                 for force, body_id in active:
                     force.apply(self.data, body_id)
             mujoco.mj_step(self.model, self.data)
-            imu_sum += self.ground_truth.imu_now(self.data)
+            imu_sum += imu_now(self.data)
             self._substep += 1
         self.ground_truth.imu_mean = imu_sum / self.nb_substeps
         self._check_stable(self.time)

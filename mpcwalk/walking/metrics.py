@@ -14,9 +14,9 @@ import numpy as np
 
 from mpcwalk.footsteps.footstep import Side, wrap_angle
 from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.models.support_polygon import SupportPolygon, foot_rectangle
 from mpcwalk.sim import FallStatus
 from mpcwalk.walking.attitude_metrics import attitude_metrics, yaw_deviation_deg
+from mpcwalk.walking.cop_margins import cop_margins, measured_support_polygon
 from mpcwalk.walking.estimator_metrics import EstimatorAccuracy
 from mpcwalk.walking.log import WalkLog
 from mpcwalk.walking.planned_yaw import planned_yaw_change
@@ -169,34 +169,6 @@ class WalkMetrics:
     def with_yaw_deviation(self, deviation: float) -> "WalkMetrics":
         """A copy with ``yaw_deviation_deg`` set [deg]."""
         return replace(self, yaw_deviation_deg=float(deviation))
-
-
-def measured_support_polygon(
-    schedule: ContactSchedule, t: float, sole_positions: np.ndarray, sole_yaws: np.ndarray
-) -> SupportPolygon:
-    """Support polygon of the feet the schedule puts on the ground at ``t``, at their
-    measured poses (soles of the schedule's size)."""
-    feet = schedule.phase(t).feet
-    rectangles = [
-        foot_rectangle(
-            sole_positions[i][:2], float(sole_yaws[i]), schedule.foot.length, schedule.foot.width
-        )
-        for i, side in enumerate(_SIDES)
-        if side in feet
-    ]
-    return rectangles[0] if len(rectangles) == 1 else SupportPolygon.union_hull(rectangles)
-
-
-def cop_margins(log: WalkLog, schedule: ContactSchedule) -> np.ndarray:
-    """Signed distance [m] of the measured CoP to the measured support polygon, per tick
-    (NaN without contact)."""
-    margins = np.full(len(log), np.nan)
-    for i in np.flatnonzero(np.isfinite(log.cop[:, 0])):
-        polygon = measured_support_polygon(
-            schedule, log.time[i], log.sole_positions[i], log.sole_yaws[i]
-        )
-        margins[i] = float(polygon.signed_distance(log.cop[i, :2]))
-    return margins
 
 
 def landing_check_times(schedule: ContactSchedule) -> np.ndarray:

@@ -6,6 +6,9 @@ Names:
   shifted previous solution (:class:`~mpcwalk.qp.solvers.osqp_direct.OsqpSolver`);
 - ``"casadi"`` (= ``"casadi-qpoases"``) and ``"casadi-<plugin>"``: CasADi's conic
   interface (:class:`~mpcwalk.qp.solvers.casadi_qp.CasadiSolver`);
+- ``"daqp-direct"``: DAQP's own workspace, set up once, then vector updates and a hot
+  start from the previous working set
+  (:class:`~mpcwalk.qp.solvers.daqp_direct.DaqpSolver`);
 - ``"kkt"``: one linear solve of the KKT system, for QPs without inequalities
   (``constrained=False``), exact up to round-off
   (:class:`~mpcwalk.qp.solvers.kkt.KktSolver`);
@@ -108,6 +111,12 @@ def _make_osqp(**settings) -> QPSolver:
     return OsqpSolver(**settings)
 
 
+def _make_daqp(**settings) -> QPSolver:
+    from mpcwalk.qp.solvers.daqp_direct import DaqpSolver
+
+    return DaqpSolver(**settings)
+
+
 def _make_kkt(**settings) -> QPSolver:
     if settings:
         raise ConfigurationError(
@@ -178,6 +187,17 @@ def _default_registry() -> SolverRegistry:
         )
     )
     registry.register(SolverEntry("kkt", _make_kkt, lambda: True, ""))
+    daqp_missing = importlib.util.find_spec("daqp") is None
+    registry.register(
+        SolverEntry(
+            "daqp-direct",
+            _make_daqp,
+            lambda: not daqp_missing,
+            "pip install daqp",
+            warm_start=True,
+            definite_only=True,
+        )
+    )
     registry.register(_casadi_entry("casadi", "qpoases"))
     for plugin in PLUGINS:
         registry.register(_casadi_entry(f"casadi-{plugin}", plugin))

@@ -1,0 +1,135 @@
+"""Direct, hot-started DAQP back-end (DAQP's own workspace API).
+
+DAQP (a dual active-set solver) keeps its workspace between calls: the Cholesky factor of
+the Hessian, the constraint matrix in its transformed space and the working set of the last
+solve. On a QP whose matrices keep their values from tick to tick (the fixed-footstep
+walking QP: ``P`` never changes, ``A`` only when the polygons over the horizon change),
+each tick then only pushes the vectors: no refactorisation, and the solve starts from the
+active set of the previous tick (hot start). QPs rebuilt every tick (the footstep-adaptive
+MPC's) are set up anew each tick, with the shifted previous solution as the primal start.
+"""
+
+import time
+
+import daqp
+import numpy as np
+
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.qp.program import QuadraticProgram
+from mpcwalk.qp.result import QPResult
+from mpcwalk.qp.solvers.base import QPSolver, failure
+
+_INFINITY = 1e30  # DAQP's "no bound"
+
+
+class DaqpSolver(QPSolver):
+    """DAQP through its workspace (``daqp.Model``), hot-started.
+
+    Only the dense formulation (a positive definite ``P``, inequality rows only) applies.
+
+    Args:
+        settings: DAQP settings (``primal_tol``, ``dual_tol``, ``iter_limit``...), given to
+            the workspace at each set-up.
+    """
+
+    name = "daqp-direct"
+
+    def __init__(self, **settings) -> None:
+        known = daqp.Model().settings  # DAQP ignores unknown keys silently: refuse them here
+        unknown = sorted(set(settings) - set(known))
+        if unknown:
+            raise ConfigurationError(
+                f"Solver '{self.name}' does not take the settings {', '.join(unknown)}; its "
+                f"settings are {', '.join(known)}."
+            )
+        for key, value in settings.items():
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise ConfigurationError(
+                    f"Solver '{self.name}' setting {key} must be a number, got {value!r}."
+                )
+        self.settings = settings
+        self._model: daqp.Model | None = None
+        self._qp: QuadraticProgram | None = None
+        self._versions = (-1, -1)
+        self._previous: np.ndarray | None = None
+        self._lower = np.zeros(0)
+        self._sense = np.zeros(0, dtype=np.int32)
+
+    def reset(self) -> None:
+        self._model = self._qp = self._previous = None
+        self._versions = (-1, -1)
+
+    def check(self, qp: QuadraticProgram) -> None:
+        if qp.formulation == "sparse" or qp.m_eq:
+            raise ConfigurationError(
+                f"Solver '{self.name}' needs a positive definite cost matrix and inequality "
+                "rows only, but the sparse formulation's P is only semidefinite (states are "
+                "not penalised in every direction); use formulation='dense' with it."
+            )
+
+    def _setup(self, P, q, G, h, primal_start=None) -> bool:
+        m = len(h)
+        if len(self._lower) != m:
+            self._lower = np.full(m, -_INFINITY)
+            self._sense = np.zeros(m, dtype=np.int32)
+        model = daqp.Model()
+        if self.settings:
+            model.settings = dict(self.settings)
+        exitflag, _ = model.setup(P, q, G, h, self._lower, self._sense, primal_start=primal_start)
+        self._model = model if exitflag >= 0 else None
+        return self._model is not None
+
+    def solve(self, qp: QuadraticProgram, *, shift: float = 0.0) -> QPResult:
+        self.check(qp)
+        qp.require_update()
+        start = time.perf_counter()
+        P, q, G, h = qp.dense_arrays()  # DAQP reads bounds >= 1e30 (and inf) as none
+        if not h.flags.writeable:  # DAQP takes writable buffers only
+            h = h.copy()
+        fixed = bool(qp.fixed_pattern)
+        versions = (getattr(qp, "P_version", -1), getattr(qp, "A_version", -1))
+        ready = True
+        if (
+            not fixed
+            or self._model is None
+            or self._qp is not qp
+            or versions[0] != self._versions[0]
+        ):
+            # A new problem, a new P (a new factorisation) or a QP rebuilt every tick.
+            primal_start = None
+            if not fixed and self._previous is not None and self._qp is qp:
+                primal_start = qp.shift_primal(self._previous, shift)
+            ready = self._setup(P, q, G, h, primal_start)
+        elif versions[1] != self._versions[1]:
+            ready = self._model.update(A=G, f=q, bupper=h) >= 0  # keeps the working set
+        else:  # (no rows: DAQP takes no empty bound vector)
+            ready = self._model.update(f=q, bupper=h if len(h) else None) >= 0
+        self._qp, self._versions = qp, versions
+        if not ready or self._model is None:
+            self._model = self._previous = None
+            return failure(self.name, "setup failed", time.perf_counter() - start)
+        x, _, exitflag, info = self._model.solve()
+        elapsed = time.perf_counter() - start
+        if exitflag <= 0:
+            self._model = self._previous = None  # start the next tick from scratch
+            return failure(self.name, f"exitflag {exitflag}", elapsed)
+        x = np.array(x, dtype=float)
+        z = np.array(info["lam"], dtype=float)
+        self._previous = x
+        Px = P @ x
+        Gx = G @ x
+        primal = float(max(0.0, np.max(Gx - h))) if len(h) else 0.0
+        dual = float(np.max(np.abs(Px + q + G.T @ z)))
+        gap = float(abs(x @ Px + q @ x + h @ z))
+        return QPResult(
+            x=x,
+            y=z,
+            success=True,
+            status="found",
+            solve_time=elapsed,
+            iterations=int(info["iterations"]),
+            primal_residual=primal,
+            dual_residual=dual,
+            duality_gap=gap,
+            solver=self.name,
+        )
