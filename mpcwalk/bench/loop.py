@@ -89,9 +89,9 @@ class LoopCase:
 
     @property
     def controller_overhead_us(self) -> float:
-        """The control tick (controller and estimator) less the generator, the estimator and
-        the IK: the controller's own work (trajectories, feedback, stabilizers, feed-forward,
-        bookkeeping), in [us]."""
+        """The controller's tick less its generator and its IK (the estimator runs beside
+        the controller and is timed apart): the controller's own work (trajectories,
+        feedback, stabilizers, feed-forward, fault checks), in [us]."""
         return self.controller_tick_us - self.generator_tick_us - self.ik_tick_us
 
 
@@ -265,8 +265,8 @@ def _run_loop_command(args) -> int:
         f"latency; medians per tick. Floor: the same robot standing in the same simulation, "
         f"its actuators holding the nominal posture, no controller: MuJoCo's steps alone, "
         f"then with the ground truth and sensor readings of each period. Controller overhead: "
-        f"the control tick (controller and estimator) less the generator, the estimator and "
-        f"the IK. Machine: {machine_description()}.\n"
+        f"the controller's tick less its generator and its IK (the estimator runs beside it, "
+        f"timed apart). Machine: {machine_description()}.\n"
         f"Command: `mpcwalk bench loop --out {args.out}`\n\n"
         + format_loop_table(cases)
         + "\n\nIK tick, ours beside pink on the same tasks, robot and motion (same run):\n\n"
