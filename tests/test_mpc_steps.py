@@ -443,3 +443,33 @@ def test_mujoco_push_felling_the_closed_form_gait_is_recovered_by_the_adaptive_m
     assert not runs["adaptive"]["fell"], runs["adaptive"]["fall_reason"]
     assert runs["adaptive"]["mpc_failures"] == 0
     assert runs["adaptive"]["steps_completed"] == runs["adaptive"]["steps_planned"]
+
+
+@pytest.mark.parametrize("kick", [(0.0, 0.0), (0.25, 0.0), (0.0, 0.15), (0.0, -0.15)])
+def test_every_plan_is_capturable_within_the_horizon(kick):
+    """With ``capturability`` on, the DCM at the end of every plan returned lies in the
+    support of the last sample (the robot could stop there), checked against the support
+    half-planes the QP was given; a plan that cannot meet it is said and counted."""
+    gen = generator(capturability=True)
+    slacks, statuses = [], []
+    core_solve = gen._checked_solve
+
+    def solve_and_check(qp, shift):
+        result = core_solve(qp, shift)
+        statuses.append(result.status)
+        if result.success and "not capturable" not in result.status:
+            supports, last = qp.supports, len(qp.supports.rows) - 1
+            rows = np.flatnonzero(supports.rows[last])
+            centre = supports.weights[last] @ qp.footsteps(result.x)
+            offset = supports.normals[last, rows] @ (qp.terminal_dcm(result.x) - centre)
+            slacks.append(float(np.min(supports.offsets[last, rows] - offset)))
+        return result
+
+    gen._checked_solve = solve_and_check
+    outs, error = pushed_walk(gen, np.array(kick), straight())
+    assert error is None
+    assert len(slacks) + gen.nb_not_capturable == len(statuses) == len(outs) - 1
+    assert min(slacks) > -1e-7  # [m]
+    assert sum("not capturable" in s for s in statuses) == gen.nb_not_capturable
+    if kick == (0.0, 0.0):
+        assert gen.nb_not_capturable == 0

@@ -19,6 +19,7 @@ before touch-down; a schedule is published when the next landing moved by more t
 published positions and the generator and the controller agree on every support polygon.
 """
 
+from dataclasses import replace
 from typing import Any, ClassVar
 
 import numpy as np
@@ -35,6 +36,7 @@ from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp.footstep_parameters import FootstepMpcParameters
 from mpcwalk.qp.footstep_qp import FootstepQP
 from mpcwalk.qp.footstep_supports import FootstepSlots
+from mpcwalk.qp.result import QPResult
 
 _BOUNDARY_EPS = 1e-9  # [s] a sample on a phase boundary belongs to the new phase
 FOOTSTEP_REFERENCES = ("relative", "absolute")
@@ -175,6 +177,9 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         self.qp: FootstepQP | None = None
         self.nb_publications = 0
         """Schedules published since the last reset."""
+        self.nb_not_capturable = 0
+        """Ticks since the last reset where no plan met the capturability constraint (the
+        plan without it was used)."""
         self._slots: FootstepSlots | None = None
 
     @classmethod
@@ -195,7 +200,7 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         if self.qp is None or self.qp.nf != nf:
             self.qp = FootstepQP(self.lipm, p, nf)
         self._restart(initial_state)
-        self.nb_publications = 0
+        self.nb_publications = self.nb_not_capturable = 0
         return self._output(0.0, self._state)
 
     # ------------------------------------------------------------------ tick
@@ -239,6 +244,17 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
             solve=info,
             schedule=published,
         )
+
+    def _checked_solve(self, qp, shift: float) -> QPResult:
+        """The core's checked solve; when the capturability rows make it fail, the plan
+        without them (counted in :attr:`nb_not_capturable`, said in the status)."""
+        result = super()._checked_solve(qp, shift)
+        if result.success or not isinstance(qp, FootstepQP) or not qp.terminal_rows:
+            return result
+        qp.without_terminal_rows()
+        self.nb_not_capturable += 1
+        retry = super()._checked_solve(qp, shift)
+        return replace(retry, status=f"{retry.status} (not capturable within the horizon)")
 
     def _capture_offset(self, t: float, first_landing: float) -> np.ndarray:
         """Capture-point stepping: where the DCM error of this tick (:attr:`dcm_error`),

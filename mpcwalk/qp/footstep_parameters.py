@@ -26,6 +26,10 @@ class FootstepMpcParameters:
             default) also the middle of each interval. The ZMP is cubic between samples
             and, at the samples only, was measured 9 mm outside the foot after a push (the
             ZMP crossing to a footstep moved 6 cm away within the 0.1 s double support).
+        capturability: Require the DCM at the end of the horizon inside the support of the
+            last sample (the robot could stop there: every plan returned is capturable
+            within the horizon, as the terminal constraint of Scianca et al. 2020 keeps the
+            DCM bounded). When no plan meets it the generator solves without it and says so.
     """
 
     sampling_period: float = 0.05  # [s]
@@ -36,6 +40,7 @@ class FootstepMpcParameters:
     footstep_weight: float = 100.0  # [1/m^2]
     zmp_margin: float = 0.0  # [m]
     constraint_points: int = 2  # [] per sampling interval
+    capturability: bool = False
 
     def __post_init__(self) -> None:
         if not np.isfinite(self.sampling_period) or self.sampling_period <= 0.0:
@@ -67,6 +72,11 @@ class FootstepMpcParameters:
                 f"sampling interval), got {self.constraint_points!r}."
             )
         object.__setattr__(self, "constraint_points", int(self.constraint_points))
+        if not isinstance(self.capturability, bool):
+            raise ConfigurationError(
+                "FootstepMpcParameters.capturability must be True or False, got "
+                f"{self.capturability!r}."
+            )
         if not np.isfinite(self.zmp_margin) or self.zmp_margin < 0.0:
             raise ConfigurationError(
                 f"FootstepMpcParameters.zmp_margin must be a non-negative distance in metres, "

@@ -59,6 +59,8 @@ class FootstepQP:
         self.N, self.nf = N, nf = parameters.horizon, int(nb_footsteps)
         self.n = 2 * (N + nf)
         self.m = 0
+        self.terminal_rows = 0
+        """Rows of the terminal DCM constraint in the last update (``capturability``)."""
         self.lipm = lipm
         self.model = CartTable(lipm, p.sampling_period)
         self._predictions: dict = {}
@@ -71,6 +73,8 @@ class FootstepQP:
         self.P, self.q = np.zeros((self.n, self.n)), np.zeros(self.n)
         self.G, self.h = np.zeros((0, self.n)), np.zeros(0)
         self.x0: np.ndarray | None = None
+        self.supports: SampleSupports | None = None
+        """The supports of the last :meth:`update`."""
         self.sample_times = self.sample_times_at(0.0)
         self._initial_footsteps = np.zeros((nf, 2))
 
@@ -140,6 +144,10 @@ class FootstepQP:
             + p.jerk_weight * np.eye(N)
         )
         pred["H_jerk"] = 0.5 * (H + H.T)
+        # DCM at the last sample, xi = c + c_dot / omega
+        omega = self.lipm.omega
+        pred["Pds"] = pred["Pps"][-1] + pred["Pvs"][-1] / omega
+        pred["Pdu"] = pred["Ppu"][-1] + pred["Pvu"][-1] / omega
         self._predictions[key] = pred
         return pred
 
@@ -192,8 +200,14 @@ class FootstepQP:
             q[cols[N:]] = scale * (-wz * S.T @ z_res - wf * M.T @ steps.reference[:, a])
         self.P, self.q = P, q
         self.G, self.h = self._constraints(x0, supports, steps)
+        self.terminal_rows = 0
+        if p.capturability:
+            G_dcm, h_dcm = self._terminal_dcm_rows(x0, supports)
+            self.G, self.h = np.vstack([self.G, G_dcm]), np.concatenate([self.h, h_dcm])
+            self.terminal_rows = len(h_dcm)
         self.m = len(self.h)
         self.x0, self.time, self.sample_times = x0.copy(), float(t), times
+        self.supports = supports
         self._initial_footsteps = np.asarray(steps.initial, dtype=float)
 
     def _constraints(self, x0, supports: SampleSupports, steps: StepVariables):
@@ -241,6 +255,33 @@ class FootstepQP:
         moved = np.einsum("rka,ra->rk", e, fixed)
         h_reach = np.where(chained[:, None], bounds, bounds + moved).ravel()
         return np.vstack([G_zmp, G_reach]), np.concatenate([h_zmp, h_reach])
+
+    def _terminal_dcm_rows(self, x0, supports: SampleSupports):
+        """``normal . (xi_N - S_N F) <= offset``: the DCM at the last sample inside the
+        support of the last constraint point (the last sample), affine in the jerks and the
+        footsteps like the ZMP rows."""
+        N, nf, last = self.N, self.nf, len(supports.rows) - 1
+        rows = np.flatnonzero(supports.rows[last])
+        normals = supports.normals[last, rows]  # (r, 2)
+        S = supports.weights[last]
+        G = np.zeros((len(rows), self.n))
+        dcm_free = self._pred["Pds"] @ x0  # (2,)
+        for a in range(2):
+            G[:, a * N : (a + 1) * N] = normals[:, a : a + 1] * self._pred["Pdu"][None, :]
+            G[:, 2 * N + a * nf : 2 * N + (a + 1) * nf] = -normals[:, a : a + 1] * S[None, :]
+        h = supports.offsets[last, rows] - normals @ dcm_free
+        return G, h
+
+    def without_terminal_rows(self) -> None:
+        """Drop the terminal DCM rows of the last :meth:`update` (the fallback when no plan
+        meets them)."""
+        if self.terminal_rows:
+            self.G, self.h = self.G[: -self.terminal_rows], self.h[: -self.terminal_rows]
+            self.m, self.terminal_rows = len(self.h), 0
+
+    def terminal_dcm(self, x: np.ndarray) -> np.ndarray:
+        """DCM at the last sample of a solution, shape (2,), in [m]."""
+        return self._pred["Pds"] @ self.x0 + self._pred["Pdu"] @ self.jerks(x)
 
     def problem(self, dense: bool = True) -> qpsolvers.Problem:
         """The QP in qpsolvers form ``min 1/2 x'Px + q'x, G x <= h`` (dense arrays; the
