@@ -1,5 +1,5 @@
 """Command line: ``mpcwalk plan``, ``mpcwalk generators``, ``mpcwalk bench``, ``mpcwalk walk``,
-``mpcwalk robots``."""
+``mpcwalk robots``, ``mpcwalk sweep``."""
 
 import argparse
 import os
@@ -14,7 +14,8 @@ from mpcwalk.walking.outputs import out_path
 _DESCRIPTION = (
     "Optimization-based walking of humanoid robots: plan a walk on the LIPM (plan), list the "
     "pattern generators (generators), the named controllers (controllers) and the robots "
-    "(robots), simulate a robot walking in MuJoCo (walk), run the benchmarks (bench). Exit "
+    "(robots), simulate a robot walking in MuJoCo (walk), run the benchmarks (bench) and the "
+    "sweeps (sweep). Exit "
     "status: 0 success, 1 the simulated robot fell, 2 bad input (nothing ran), 3 the "
     "controller stopped the walk (faults beyond its bound), 4 internal error (traceback saved "
     "under --out; --debug prints it), 130 interrupted (partial results written)."
@@ -205,11 +206,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="list the named controller configurations (mpcwalk walk --controller NAME)",
     )
     from mpcwalk.bench.cli import add_bench_parser
+    from mpcwalk.experiments.sweep_cli import add_sweep_parser
     from mpcwalk.walking.cli import add_robots_parser, add_walk_parser
 
     add_bench_parser(sub)
     add_walk_parser(sub)
     add_robots_parser(sub)
+    add_sweep_parser(sub)
     _use_formatter(parser)
     return parser
 
@@ -283,6 +286,10 @@ def _dispatch(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
         from mpcwalk.walking.cli import run_robots_command
 
         return run_robots_command(args)
+    if args.command == "sweep":
+        from mpcwalk.experiments.sweep_cli import run_sweep_command
+
+        return run_sweep_command(args)
     parser.error(f"unknown command {args.command!r}")
     return 2
 

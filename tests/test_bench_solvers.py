@@ -27,7 +27,7 @@ from mpcwalk.bench.solvers.results import (
 )
 from mpcwalk.bench.solvers.runner import make_cases, run_solver_benchmark
 from mpcwalk.bench.solvers.sampling import reference_walk, sample_problems
-from mpcwalk.bench.solvers.timed_pool import TimedPool
+from mpcwalk.bench.solvers.timed_solves import TimedSolves
 from mpcwalk.bench.solvers.tolerances import select_levels, tolerance_levels
 from mpcwalk.exceptions import ConfigurationError
 
@@ -247,7 +247,7 @@ def test_timeouts_are_recorded_and_their_group_skipped(problems):
         levels=("mid",), starts=("cold",), formulations=("dense",), time_limit=1e-9
     )
     cases = make_cases([(p, "main") for p in problems] * 2, config, ["quadprog"])
-    rows = TimedPool(1).run(cases, progress=False)
+    rows = TimedSolves(1).run(cases, progress=False)
     assert [r["timeout"] for r in rows] == [True] * 4
     assert [r["status"].startswith("skipped") for r in rows] == [False, False, True, True]
     assert not any(r["success"] for r in rows)

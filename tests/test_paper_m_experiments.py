@@ -23,7 +23,6 @@ from mpcwalk.experiments.paper_m import (
     walk_task,
 )
 from mpcwalk.experiments.paper_m_table import format_readme, format_table, goal_checks, table_rows
-from mpcwalk.experiments.parallel_walks import WorkerProcessDied, run_tasks
 from mpcwalk.experiments.push_sweep import (
     CaseResult,
     PushSweepConfig,
@@ -35,6 +34,7 @@ from mpcwalk.experiments.push_sweep import (
 )
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.sim import ExternalForce
+from mpcwalk.sweep import WorkerDied, map_tasks
 from mpcwalk.walking.metrics import yaw_deviation_deg
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -382,15 +382,18 @@ def test_controller_availability_names_what_is_missing():
     assert reasons["no-stab"] == "no stabilizer 'magic'"
 
 
-def test_run_tasks_keeps_the_order_in_processes():
+def test_map_tasks_keeps_the_order_on_ray_workers():
     tasks = [(math.sqrt, (float(k),)) for k in (16, 1, 9, 4)]
-    assert run_tasks(tasks, workers=2, progress=False) == [4.0, 1.0, 3.0, 2.0]
-    assert run_tasks(tasks, workers=1, progress=False) == [4.0, 1.0, 3.0, 2.0]
+    assert map_tasks(tasks, workers=2, progress=False) == [4.0, 1.0, 3.0, 2.0]
+    assert map_tasks(tasks, workers=1, progress=False) == [4.0, 1.0, 3.0, 2.0]
     with pytest.raises(ConfigurationError, match="positive integer"):
-        run_tasks(tasks, workers=0)
-    # a worker that dies (here: exits) is reported with the likely cause
-    with pytest.raises(WorkerProcessDied, match="__main__"):
-        run_tasks([(os._exit, (3,)), (math.sqrt, (1.0,))], workers=2, progress=False)
+        map_tasks(tasks, workers=0)
+    # a task's own exception comes back as itself
+    with pytest.raises(ValueError, match="math domain error"):
+        map_tasks([(math.sqrt, (-1.0,))], workers=1, progress=False)
+    # a worker that dies (here: exits) is named, never a hang
+    with pytest.raises(WorkerDied):
+        map_tasks([(os._exit, (3,)), (math.sqrt, (1.0,))], workers=2, progress=False)
 
 
 @pytest.mark.slow

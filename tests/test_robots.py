@@ -14,6 +14,7 @@ from mpcwalk.exceptions import ConfigurationError, FrameNotFound, MpcwalkError, 
 from mpcwalk.footsteps import LegLimits
 from mpcwalk.robot import Robot, load_robot, robot_names
 from mpcwalk.robot import loading as robots
+from mpcwalk.robot.ground import FIELD_NAME
 from mpcwalk.sim import make_mj_data
 
 NAMES = robot_names()
@@ -162,7 +163,11 @@ def test_only_the_feet_touch_the_floor(name):
         for g in range(model.ngeom)
         if model.geom_contype[g] or model.geom_conaffinity[g]
     }
-    assert colliding == {"floor", "left_sole_box", "right_sole_box"}
+    # the ground's height field lies on the floor, dormant: no geom's type matches its affinity
+    assert colliding == {"floor", "left_sole_box", "right_sole_box", FIELD_NAME}
+    field = model.geom(FIELD_NAME).id
+    assert model.geom_contype[field] == 0
+    assert not np.any(model.geom_contype & model.geom_conaffinity[field])
     for sensor in (
         "imu_gyro",
         "imu_accelerometer",

@@ -37,7 +37,15 @@ def main(argv=None) -> int:
     )
     parser.set_defaults(mode="full")
     parser.add_argument(
-        "--workers", type=int, default=None, help="worker processes (default: one per core)"
+        "--workers",
+        type=int,
+        default=None,
+        help="walks at once, as Ray tasks (default: one per core; a cluster's CPUs)",
+    )
+    parser.add_argument(
+        "--address",
+        default=None,
+        help="Ray cluster, e.g. ray://HOST:10001 (default: RAY_ADDRESS, else a local Ray)",
     )
     parser.add_argument("--config", type=Path, default=DEFAULT_CONFIG, help="TOML parameters")
     parser.add_argument(
@@ -63,6 +71,7 @@ def main(argv=None) -> int:
         names=args.controllers,
         experiments=args.experiments,
         workers=args.workers,
+        address=args.address,
         progress=not args.no_progress,
         plots=not args.no_plots,
         command=command.strip(),

@@ -30,7 +30,15 @@ def main(argv=None) -> int:
         "--quick", action="store_true", help="a handful of cases (the [quick] table)"
     )
     parser.add_argument(
-        "--workers", type=int, default=None, help="worker processes (default: one per core)"
+        "--workers",
+        type=int,
+        default=None,
+        help="walks at once, as Ray tasks (default: one per core; a cluster's CPUs)",
+    )
+    parser.add_argument(
+        "--address",
+        default=None,
+        help="Ray cluster, e.g. ray://HOST:10001 (default: RAY_ADDRESS, else a local Ray)",
     )
     parser.add_argument("--config", type=Path, default=DEFAULT_CONFIG, help="TOML parameters")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -40,7 +48,11 @@ def main(argv=None) -> int:
         sys.argv[1:] if argv is None else argv
     )
     results = run_robustness(
-        config, workers=args.workers, progress=not args.no_progress, figures_dir=args.out
+        config,
+        workers=args.workers,
+        progress=not args.no_progress,
+        figures_dir=args.out,
+        address=args.address,
     )
     written = write_results(args.out, config, results, command=command.strip())
     print(falls_table(results.rows), end="")

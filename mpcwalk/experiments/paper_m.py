@@ -13,8 +13,8 @@ The experiments (parameters in :class:`PaperMConfig`, read from
    (:mod:`mpcwalk.experiments.push_sweep`);
 4. speed: the fastest forward walk without a fall (:func:`speed_search`).
 
-:func:`run_paper_m` (in :mod:`mpcwalk.experiments.paper_m_report`) runs them in parallel and writes the
-table and the figures.
+:func:`run_paper_m` (in :mod:`mpcwalk.experiments.paper_m_report`) runs them as Ray tasks
+(:func:`mpcwalk.sweep.map_tasks`) and writes the table and the figures.
 """
 
 import dataclasses
@@ -30,7 +30,6 @@ from typing import Any
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError, InfeasibleCommand
-from mpcwalk.experiments.parallel_walks import worker_robot
 from mpcwalk.experiments.push_sweep import (
     CaseResult,
     PushSweepConfig,
@@ -40,6 +39,7 @@ from mpcwalk.experiments.push_sweep import (
 from mpcwalk.footsteps.footstep import Side, wrap_angle
 from mpcwalk.robot.package_data import EXPERIMENT_DATA, package_data_dir
 from mpcwalk.sim import ExternalForce
+from mpcwalk.sweep.walks import worker_robot
 from mpcwalk.walking.controllers import controller_config
 from mpcwalk.walking.result import WalkResult
 from mpcwalk.walking.runner import run_walk

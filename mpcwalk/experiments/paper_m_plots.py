@@ -175,7 +175,7 @@ def write_figures(
     the file names."""
     import matplotlib.pyplot as plt
 
-    from mpcwalk.experiments.parallel_walks import worker_robot
+    from mpcwalk.sweep.walks import worker_robot
     from mpcwalk.walking.figures import plot_walk_top_view
 
     names = []

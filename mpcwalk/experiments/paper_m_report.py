@@ -1,7 +1,7 @@
 """Paper M's comparison in one call: every experiment, the table, the goals, the figures.
 
-:func:`run_paper_m` runs the walks of :mod:`mpcwalk.experiments.paper_m` in worker processes
-and writes ``results.json``, ``README.md`` (table, goal checks, definitions, from
+:func:`run_paper_m` runs the walks of :mod:`mpcwalk.experiments.paper_m` as Ray tasks (the
+sweep engine's :func:`~mpcwalk.sweep.map_tasks`, on this machine or a cluster) and writes ``results.json``, ``README.md`` (table, goal checks, definitions, from
 :mod:`mpcwalk.experiments.paper_m_table`) and the figures into one directory.
 """
 
@@ -26,8 +26,8 @@ from mpcwalk.experiments.paper_m import (
     with_stabilizer,
 )
 from mpcwalk.experiments.paper_m_table import format_readme, goal_checks, table_rows
-from mpcwalk.experiments.parallel_walks import Task, run_tasks
 from mpcwalk.experiments.push_sweep import SweepCase, summarize_sweep
+from mpcwalk.sweep import Task, map_tasks
 from mpcwalk.walking.metrics import yaw_deviation_deg
 
 
@@ -50,6 +50,7 @@ def run_paper_m(
     names: Sequence[str] | None = None,
     experiments: Sequence[str] = EXPERIMENTS,
     workers: int | None = None,
+    address: str | None = None,
     progress: bool = True,
     plots: bool = True,
     command: str = "",
@@ -62,7 +63,8 @@ def run_paper_m(
         controllers: Name -> :func:`run_walk` keyword arguments.
         names: Controllers to run (default: all that are available here).
         experiments: Some of :data:`EXPERIMENTS`.
-        workers: Worker processes (default: one per core).
+        workers: Walks at once (default: one per core; on a cluster, its CPUs).
+        address: Ray cluster (None: ``RAY_ADDRESS``, else a local Ray instance).
         progress: Progress bar.
         plots: Write the figures.
         command: The command line, written into the README.
@@ -144,7 +146,9 @@ def run_paper_m(
                         )
                     )
     start = time.perf_counter()
-    outputs = run_tasks(tasks, workers=workers, progress=progress, description="paper M walks")
+    outputs = map_tasks(
+        tasks, workers=workers, address=address, progress=progress, description="paper M walks"
+    )
     wall = time.perf_counter() - start
     results: dict[str, Any] = {
         "command": command,

@@ -9,7 +9,8 @@ the controller's model: torso mass, CoM offset, friction, latency, sensor noise,
 torso combined with each of the others. The cases, robots, walks and generators are data
 (``experiments/robustness/robustness.toml``, read by
 :func:`~mpcwalk.experiments.robustness_config.load_config`);
-:func:`run_robustness` runs every walk in worker processes and returns one row per walk, and
+:func:`run_robustness` runs every walk as a Ray task (:func:`mpcwalk.sweep.map_tasks`) and
+returns one row per walk, and
 :mod:`mpcwalk.experiments.robustness_report` writes the tables.
 
 The same module measures the estimator on a nominal walk of each robot
@@ -23,7 +24,6 @@ from pathlib import Path
 from typing import Any
 
 from mpcwalk.exceptions import MpcwalkError
-from mpcwalk.experiments.parallel_walks import Task, run_tasks, worker_robot
 from mpcwalk.experiments.robustness_config import (
     DEFAULT_CONFIG,
     RobustnessCase,
@@ -32,6 +32,7 @@ from mpcwalk.experiments.robustness_config import (
     build_cases,
     load_config,
 )
+from mpcwalk.sweep import Task, map_tasks, worker_robot
 from mpcwalk.walking.runner import run_walk
 
 __all__ = [
@@ -79,7 +80,7 @@ def walk_row(
     case: RobustnessCase,
     control_period: float,
 ) -> dict[str, Any]:
-    """One walk of the table (run in a worker process): the case, then :data:`ROW_METRICS`.
+    """One walk of the table (a Ray task): the case, then :data:`ROW_METRICS`.
 
     A walk the library refuses (an :class:`~mpcwalk.exceptions.MpcwalkError`: an infeasible
     command, a solver that fails to build) is a row with its ``error`` and no metrics; the
@@ -142,7 +143,7 @@ def estimator_row(
     figure: str | None = None,
     seed: int = 0,
 ) -> dict[str, Any]:
-    """A nominal walk on the estimator (run in a worker process): its row, and the figure of
+    """A nominal walk on the estimator (a Ray task): its row, and the figure of
     the estimated state against the ground truth written to ``figure`` (a PNG file)."""
     result = run_walk(
         worker_robot(robot),
@@ -198,7 +199,7 @@ class RobustnessResults:
         rows: One row per walk of the table (:func:`walk_row`).
         estimator: One row per nominal walk of the estimator measurement.
         wall_time_s: Wall time of the whole run [s].
-        workers: Worker processes.
+        workers: Walks at once.
     """
 
     rows: tuple[dict[str, Any], ...]
@@ -221,23 +222,27 @@ def run_robustness(
     workers: int | None = None,
     progress: bool = True,
     figures_dir: str | Path | None = None,
+    address: str | None = None,
 ) -> RobustnessResults:
-    """Run the estimator walks and every walk of the table, in worker processes.
+    """Run the estimator walks and every walk of the table, as Ray tasks.
 
     Args:
         config: What to run (:func:`load_config`).
-        workers: Worker processes (default: one per core; 1 runs in this process).
+        workers: Walks at once (default: one per core).
+        address: Ray cluster (None: ``RAY_ADDRESS``, else a local Ray instance).
         progress: Show a progress bar over the walks.
         figures_dir: Folder of the estimator figures (None: no figure).
     """
-    from mpcwalk.experiments.parallel_walks import default_workers
+    import os
 
-    workers = default_workers() if workers is None else workers
+    workers = (os.cpu_count() or 1) if workers is None else workers
     if figures_dir is not None:
         Path(figures_dir).mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
     tasks = estimator_tasks(config, figures_dir) + robustness_tasks(config)
-    rows = run_tasks(tasks, workers=workers, progress=progress, description="robustness walks")
+    rows = map_tasks(
+        tasks, workers=workers, address=address, progress=progress, description="robustness walks"
+    )
     nb_estimator = len(config.estimator_walks) * len(config.estimator_seeds)
     return RobustnessResults(
         rows=tuple(rows[nb_estimator:]),

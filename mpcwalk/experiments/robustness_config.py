@@ -162,12 +162,12 @@ def build_cases(singles: Sequence[RobustnessCase], combine_with: str | None) -> 
     return tuple(cases)
 
 
-def load_config(path: str | Path = DEFAULT_CONFIG, *, mode: str = "full") -> RobustnessConfig:
-    """Read the experiment from a TOML file; ``mode="quick"`` applies its ``[quick]`` table
-    (fewer robots, walks, generators, cases and steps).
+def read_toml_mode(path: str | Path, mode: str) -> tuple[dict, dict]:
+    """The TOML table of an experiment and its ``[quick]`` table when ``mode`` is
+    ``"quick"`` (empty for ``"full"``).
 
     Raises:
-        ConfigurationError: Another mode, or a malformed table.
+        ConfigurationError: Another mode.
     """
     if sys.version_info >= (3, 11):
         import tomllib
@@ -178,7 +178,17 @@ def load_config(path: str | Path = DEFAULT_CONFIG, *, mode: str = "full") -> Rob
         raise ConfigurationError(f"mode must be 'full' or 'quick', got {mode!r}.")
     with open(path, "rb") as stream:
         data = tomllib.load(stream)
-    quick = data.get("quick", {}) if mode == "quick" else {}
+    return data, (data.get("quick", {}) if mode == "quick" else {})
+
+
+def load_config(path: str | Path = DEFAULT_CONFIG, *, mode: str = "full") -> RobustnessConfig:
+    """Read the experiment from a TOML file; ``mode="quick"`` applies its ``[quick]`` table
+    (fewer robots, walks, generators, cases and steps).
+
+    Raises:
+        ConfigurationError: Another mode, or a malformed table.
+    """
+    data, quick = read_toml_mode(path, mode)
     nb_steps = int(quick.get("nb_steps", data.get("nb_steps", 20)))
     singles = [_case(values) for values in data.get("cases", [])]
     cases = build_cases(singles, data.get("combine_with"))

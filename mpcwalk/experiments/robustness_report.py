@@ -201,7 +201,7 @@ def format_readme(
     text = [
         "# Robustness: walking on the sensors in a world that is not the model\n",
         f"`{command}` ({config.mode} mode; {len(rows) + len(results.estimator)} walks in "
-        f"{minutes:.1f} min of wall time with {results.workers} worker processes).\n",
+        f"{minutes:.1f} min of wall time, {results.workers} walks at once as Ray tasks).\n",
         "Every generator runs the controller's default closed loop on the state estimated "
         "from the sensors (default sensor noise and one control period of latency), on the "
         "simulated robot perturbed as the case says; the controller's model is never "

@@ -17,6 +17,7 @@ import numpy as np
 import pinocchio as pin
 
 from mpcwalk.exceptions import ConfigurationError, FrameNotFound
+from mpcwalk.robot.ground import add_ground_field
 from mpcwalk.robot.preset import RobotPreset
 
 SOLE_FRAMES = ("left_sole", "right_sole")
@@ -148,6 +149,7 @@ def add_scene(spec: mujoco.MjSpec, preset: RobotPreset) -> None:
         conaffinity=1,
         friction=[1.0, 0.005, 0.0001],
     )
+    add_ground_field(spec)  # off: a rough ground (mpcwalk.robot.ground.Ground) switches it on
     spec.worldbody.add_light(
         name="sun", pos=[0, 0, 4], dir=[0, 0, -1], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL
     )

@@ -15,6 +15,7 @@ import mujoco
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError, MpcwalkError
+from mpcwalk.robot.ground import Ground
 from mpcwalk.robot.robot import Robot
 from mpcwalk.sim.contacts import ContactEstimator
 from mpcwalk.sim.disturbances import ExternalForce, resolve_body
@@ -75,6 +76,8 @@ class Simulation:
             for exact, immediate readings.
         perturbation: How the simulated robot differs from ``robot`` (trunk mass and CoM,
             friction, servo strength); None for no difference.
+        ground: Tilt and bumps of the ground (:class:`~mpcwalk.robot.ground.Ground`); None
+            for the level floor.
         contact_threshold: Vertical force [N] above which a foot is in contact in the ground
             truth; None for 1 % of the simulated robot's weight.
 
@@ -94,6 +97,7 @@ class Simulation:
         sensors: SensorModel | None = None,
         perturbation: Perturbation | None = None,
         contact_threshold: float | None = None,
+        ground: Ground | None = None,
     ) -> None:
         self.robot = robot
         self.model: mujoco.MjModel = copy.copy(robot.mj_model)
@@ -114,6 +118,8 @@ class Simulation:
         self.nb_substeps = int(nb_substeps)
         self.perturbation = Perturbation() if perturbation is None else perturbation
         self.trunk_body = trunk_body(self.model, robot.torso_frame)
+        self.ground = Ground() if ground is None else ground
+        self.ground.apply(self.model, robot)  # before the friction reaches every contact
         self.perturbation.apply(self.model, trunk=self.trunk_body)
         self.data = mujoco.MjData(self.model)
         self.sensor_model = SensorModel.for_robot(robot) if sensors is None else sensors

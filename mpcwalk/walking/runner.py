@@ -20,22 +20,14 @@ import math
 from collections.abc import Sequence
 from pathlib import Path
 
-import numpy as np
-
 from mpcwalk.control.controller import WalkingController
 from mpcwalk.estimation.estimator import Estimator
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import (
     FootGeometry,
-    Footstep,
-    FootstepPlan,
-    StepTiming,
-    wrap_angle,
 )
-from mpcwalk.footsteps.mdat import PathWaypoint, plan_from_path, read_mdat
 from mpcwalk.footsteps.velocity_planner import (
     VelocityCommand,
-    VelocityPlanner,
     as_velocity_command,
 )
 from mpcwalk.gait.contact_schedule import ContactSchedule
@@ -48,85 +40,12 @@ from mpcwalk.sim.sensor_faults import SensorFaults
 from mpcwalk.sim.sensor_model import SensorModel
 from mpcwalk.walking.control_loop import ControlLoop, with_outcome
 from mpcwalk.walking.controller_resolution import default_timing, resolve_controller
+from mpcwalk.walking.footstep_planning import plan_walk_footsteps
 from mpcwalk.walking.inputs import check_options, check_pushes, check_walk_numbers
 from mpcwalk.walking.metrics import compute_walk_metrics, yaw_deviation_deg
 from mpcwalk.walking.outputs import check_video_path
 from mpcwalk.walking.result import WalkConfig, WalkResult
 from mpcwalk.walking.world_options import WorldOptions
-
-
-def _path_in_robot_frame(
-    waypoints: Sequence[PathWaypoint], left: Footstep, right: Footstep
-) -> tuple[PathWaypoint, ...]:
-    """The path moved rigidly so that its first stance sits on the robot's feet."""
-    first = waypoints[0]
-    yaw0 = first.right.yaw + 0.5 * float(wrap_angle(first.left.yaw - first.right.yaw))
-    mid0 = 0.5 * (first.left.position + first.right.position)
-    robot_yaw = right.yaw + 0.5 * float(wrap_angle(left.yaw - right.yaw))
-    robot_mid = 0.5 * (left.position + right.position)
-    turn = robot_yaw - yaw0
-    c, s = math.cos(turn), math.sin(turn)
-    rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-
-    def move(foot: Footstep) -> Footstep:
-        return Footstep(
-            foot.side,
-            robot_mid + rotation @ (foot.position - mid0),
-            float(wrap_angle(foot.yaw + turn)),
-        )
-
-    moved = [PathWaypoint(left, right, first.line)]
-    moved += [PathWaypoint(move(w.left), move(w.right), w.line) for w in waypoints[1:]]
-    return tuple(moved)
-
-
-def plan_walk_footsteps(
-    robot: Robot,
-    *,
-    command: VelocityCommand | Sequence[float] | None = None,
-    path: str | Path | None = None,
-    nb_steps: int | None = None,
-    timing: StepTiming = StepTiming(),
-) -> FootstepPlan:
-    """Footsteps of a walk from the robot's nominal stance.
-
-    Args:
-        robot: The robot (its soles at ``q0`` are the initial stance).
-        command: Velocity command ``(vx [m/s], vy [m/s], vyaw [rad/s])``, robot frame.
-        path: A ``.mdat`` path file (paper A), moved so that it starts at the robot's feet;
-            landings are clamped into the robot's reachability rectangle.
-        nb_steps: Steps that follow the command (a closing step is added), or the number of
-            path steps to keep (None: all of them).
-        timing: Step timing.
-
-    Raises:
-        ConfigurationError: Neither or both of ``command`` and ``path``.
-        InfeasibleCommand: The command exceeds the robot's leg limits.
-        FootstepFileError: The path file is malformed.
-    """
-    if command is not None and path is not None:
-        raise ConfigurationError(
-            "A walk needs either a velocity command (vx, vy, vyaw) or a .mdat path file, not both."
-        )
-    left, right = robot.initial_feet()
-    limits = robot.leg_limits
-    if command is None and path is None:
-        command = VelocityPlanner(limits, timing).default_command()
-    if command is not None:
-        if nb_steps is None:
-            raise ConfigurationError(
-                "A walk from a velocity command needs nb_steps (or a duration)."
-            )
-        return VelocityPlanner(limits, timing).plan(
-            command, nb_steps, initial_left=left, initial_right=right
-        )
-    if path is None:  # excluded above; narrows the type
-        raise ConfigurationError("A walk without a velocity command needs a .mdat path file.")
-    waypoints = _path_in_robot_frame(read_mdat(path), left, right)
-    plan = plan_from_path(waypoints, rectangle=limits.rectangle(), timing=timing)
-    if nb_steps is not None and nb_steps < plan.nb_steps:
-        plan = FootstepPlan(plan.initial_left, plan.initial_right, plan.steps[:nb_steps], timing)
-    return plan
 
 
 def run_walk(
@@ -163,6 +82,9 @@ def run_walk(
     servo_strength: float | None = None,
     seed: int = 0,
     sensor_faults: SensorFaults | None = None,
+    ground_tilt: float = 0.0,
+    ground_tilt_direction: float = 0.0,
+    ground_roughness: float = 0.0,
 ) -> WalkResult:
     """Simulate a walk of a robot in MuJoCo and measure it.
 
@@ -211,9 +133,12 @@ def run_walk(
         com_offset: Shift ``(dx, dy)`` [m] of the torso's CoM of the simulated robot.
         friction: Friction coefficient of the floor contacts (None: the model's).
         servo_strength: Factor on the servos' gains and torque limits.
-        seed: Seed of the sensor noise.
+        seed: Seed of the sensor noise (and of the ground's bumps).
         sensor_faults: Faults injected into the sensor stream
             (:class:`~mpcwalk.sim.sensor_faults.SensorFaults`: NaN and dropped readings).
+        ground_tilt: Slope of the ground [deg], up towards ``ground_tilt_direction`` [deg]
+            (0: forward); ``ground_roughness``: its bumps' largest height [m]
+            (:class:`~mpcwalk.robot.ground.Ground`).
 
     Returns:
         The walk, its log, metrics and configuration. A fall ends the run early (``result.fall``).
@@ -232,6 +157,9 @@ def run_walk(
         friction=friction,
         servo_strength=servo_strength,
         seed=seed,
+        ground_tilt=ground_tilt,
+        ground_tilt_direction=ground_tilt_direction,
+        ground_roughness=ground_roughness,
     )
     world.latency_periods(control_period)  # a latency of whole control periods, checked now
     if command is not None:
@@ -311,6 +239,7 @@ def run_walk(
         sensors=world.sensor_model(robot, control_period),
         perturbation=world.perturbation,
         seed=world.seed,
+        ground=world.ground,
     )
     estimator = (
         Estimator(  # tuned to the robot's data sheet, whatever the world's sensors do
@@ -384,6 +313,9 @@ def run_walk(
             state=world.state,
             perturbation=world.perturbation,
             seed=world.seed,
+            ground_tilt=ground_tilt,
+            ground_tilt_direction=ground_tilt_direction,
+            ground_roughness=ground_roughness,
         )
         after = max(p.start + p.duration for p in pushes)
         metrics = metrics.with_yaw_deviation(yaw_deviation_deg(log, reference.log, after))

@@ -55,11 +55,11 @@ def run_walk_command(args) -> int:
     from mpcwalk.sim import parse_push
     from mpcwalk.walking.cli import _by_hand, summary
     from mpcwalk.walking.runner import run_walk
-    from mpcwalk.walking.world_arguments import world_options
+    from mpcwalk.walking.world_arguments import ground_options, world_options
 
     command = _command(args)
     pushes = [parse_push(text) for text in args.push]
-    world = world_options(args)
+    world = {**world_options(args), **ground_options(args)}
     by_hand = _by_hand(args)
     out = check_out_dir(args.out, overwrite=args.overwrite)
     created = not out.exists()

@@ -76,7 +76,46 @@ def add_world_arguments(p: argparse.ArgumentParser) -> None:
         metavar="X",
         help="factor on the servos' gains and torque limits of the simulated robot",
     )
-    world.add_argument("--seed", type=int, default=0, metavar="N", help="seed of the sensor noise")
+    world.add_argument(
+        "--seed", type=int, default=0, metavar="N", help="seed of the sensor noise and the bumps"
+    )
+    add_ground_arguments(world)
+
+
+def add_ground_arguments(group) -> None:
+    """The options of the simulated ground (:class:`~mpcwalk.robot.ground.Ground`), in the
+    sensors and world group."""
+    group.add_argument(
+        "--ground-tilt",
+        type=float,
+        default=0.0,
+        metavar="DEG",
+        help="slope of the simulated ground [deg], up towards --ground-tilt-direction",
+    )
+    group.add_argument(
+        "--ground-tilt-direction",
+        type=float,
+        default=0.0,
+        metavar="DEG",
+        help="azimuth of the uphill direction [deg] (0: the robot's forward, 90: its left)",
+    )
+    group.add_argument(
+        "--ground-roughness",
+        type=float,
+        default=0.0,
+        metavar="M",
+        help="largest height of the ground's random bumps [m] (a height field; 0: flat)",
+    )
+
+
+def ground_options(args) -> dict:
+    """The keyword arguments of :func:`~mpcwalk.walking.runner.run_walk` of the ground
+    options."""
+    return {
+        "ground_tilt": args.ground_tilt,
+        "ground_tilt_direction": args.ground_tilt_direction,
+        "ground_roughness": args.ground_roughness,
+    }
 
 
 def world_options(args) -> dict:

@@ -11,18 +11,22 @@ simulated robot a real one, in one typed place, validated once:
   the simulator's ground truth (``state="oracle"``, for comparison);
 - the :class:`~mpcwalk.sim.perturbation.Perturbation` of the simulated robot (torso mass, CoM
   offset, friction, servo strength), never applied to the controller's model;
+- the :class:`~mpcwalk.robot.ground.Ground` (tilt, bumps), the controller's model staying on
+  a level floor;
 - the seed of the sensor noise.
 
 ``ideal=True`` is the old behaviour of the simulator: exact sensors, no latency and, unless
 ``state`` says otherwise, the controller reading the ground truth.
 """
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from mpcwalk.estimation.estimated_state import SOURCES
 from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.robot.ground import Ground
 from mpcwalk.sim.perturbation import Perturbation
 
 if TYPE_CHECKING:
@@ -45,7 +49,8 @@ class WorldOptions:
             ``"oracle"`` (the simulator's ground truth of the current time: the sensor noise
             and the latency then reach the controller no more).
         perturbation: How the simulated robot differs from the controller's model.
-        seed: Seed of the sensor noise (same seed, same walk).
+        seed: Seed of the sensor noise and of the ground's bumps (same seed, same walk).
+        ground: Tilt and bumps of the simulated ground (its seed is ``seed``).
 
     Raises:
         ConfigurationError: A value out of its range, or ``ideal`` with a noise scale or a
@@ -58,6 +63,7 @@ class WorldOptions:
     state: str = "estimator"
     perturbation: Perturbation = field(default_factory=Perturbation)
     seed: int = 0
+    ground: Ground = field(default_factory=Ground)
 
     def __post_init__(self) -> None:
         if not (isinstance(self.noise_scale, (int, float)) and math.isfinite(self.noise_scale)):
@@ -96,6 +102,11 @@ class WorldOptions:
             )
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ConfigurationError(f"seed must be an integer >= 0, got {self.seed!r}.")
+        if not isinstance(self.ground, Ground):
+            raise ConfigurationError(
+                "ground must be a mpcwalk.robot.ground.Ground, got "
+                f"{type(self.ground).__name__}; build one with Ground(tilt=..., roughness=...)."
+            )
 
     @classmethod
     def build(
@@ -111,13 +122,17 @@ class WorldOptions:
         friction: float | None = None,
         servo_strength: float | None = None,
         seed: int = 0,
+        ground_tilt: float = 0.0,
+        ground_tilt_direction: float = 0.0,
+        ground_roughness: float = 0.0,
     ) -> "WorldOptions":
         """The options from the keywords of :func:`~mpcwalk.walking.runner.run_walk`.
 
         ``state`` None is ``"oracle"`` with ``ideal`` sensors, else ``"estimator"``. The
         perturbation is given either whole (``perturbation``) or by its keywords
         (``mass_scale``, ``com_offset`` (dx, dy) [m], ``friction``, ``servo_strength``), not
-        both.
+        both. The ground slopes up by ``ground_tilt`` [deg] towards the azimuth
+        ``ground_tilt_direction`` [deg] and has bumps up to ``ground_roughness`` [m].
 
         Raises:
             ConfigurationError: Both a perturbation and its keywords, or a bad value.
@@ -143,14 +158,16 @@ class WorldOptions:
             perturbation = Perturbation(**keywords)
         if state is None:
             state = "oracle" if ideal else "estimator"
-        return cls(
+        options = cls(
             noise_scale=noise_scale,
             latency=latency,
             ideal=ideal,
             state=state,
             perturbation=perturbation,
             seed=seed,
-        )
+        )  # the seed checked, it draws the ground's bumps
+        ground = Ground(ground_tilt, ground_tilt_direction, ground_roughness, seed=seed)
+        return dataclasses.replace(options, ground=ground)
 
     def latency_periods(self, control_period: float) -> int | None:
         """The latency in control periods (None: the sensor model's default).
@@ -185,8 +202,8 @@ class WorldOptions:
         """The entries of the ``config`` block of ``metrics.json``
         (:class:`~mpcwalk.walking.result.WalkConfig`): ``state_source``, ``ideal_sensors``,
         ``noise_scale``, ``sensors`` (the simulated sensor model's figures), ``latency_s``
-        (the latency the controller's state had: 0 on the oracle), ``perturbation`` and
-        ``seed``."""
+        (the latency the controller's state had: 0 on the oracle), ``perturbation`` (with
+        the ground's ``ground_*`` keys that differ from the level floor) and ``seed``."""
         sensors = self.sensor_model(robot, control_period)
         return {
             "state_source": self.state,
@@ -195,7 +212,10 @@ class WorldOptions:
             "sensors": sensors.to_dict(),
             # the oracle is the exact state of the current time: no latency
             "latency_s": 0.0 if self.state == "oracle" else sensors.latency * control_period,
-            "perturbation": self.perturbation.to_dict(),
+            "perturbation": {
+                **self.perturbation.to_dict(),
+                **self.ground.changes(),
+            },
             "seed": int(self.seed),
         }
 

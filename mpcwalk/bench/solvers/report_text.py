@@ -112,9 +112,10 @@ def compose_report(
     stages = ", ".join(f"{k} {v / 60:.1f} min" for k, v in d.items())
     workers = config.timing_workers
     timing_mode = (
-        "one worker process timed every solve, so no two timed solves overlapped"
+        "one Ray timing actor (one CPU slot of the Ray instance, nothing else of the "
+        "benchmark beside it) timed every solve, so no two timed solves overlapped"
         if workers == 1
-        else f"{workers} worker processes timed solves in parallel (timings "
+        else f"{workers} Ray timing actors timed solves in parallel (timings "
         "taken in parallel: each solve shared the machine with another one)"
     )
     parts = [
@@ -122,8 +123,9 @@ def compose_report(
         f"Command: `{extras.get('command') or 'mpcwalk bench solvers --out DIR'}` "
         f"({sections['date']}; stages: {stages}).",
         f"Machine: {extras.get('machine', '')}. Timing: {timing_mode}; the untimed work "
-        f"(reference walks, feasibility checks, qpbenchmark export) ran before, in a pool of "
-        f"{config.prep_workers} processes. Workers run single-threaded (OMP/BLAS/Rayon threads "
+        f"(reference walks, feasibility checks, qpbenchmark export) ran before, as Ray tasks, "
+        f"{config.prep_workers} at a time; the tick benchmark and qpbenchmark ran each on a "
+        "fresh timing actor, the closed loops one Ray task at a time. Workers run single-threaded (OMP/BLAS/Rayon threads "
         "= 1). The machine was shared with another process running MuJoCo walks during the "
         "run: absolute times carry that load, ratios from the same run are the robust numbers.",
         "## Headline",

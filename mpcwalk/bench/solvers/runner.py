@@ -3,27 +3,27 @@
 Stages, in order, so that nothing else of this benchmark runs while solves
 are timed:
 
-1. untimed, in a pool of ``prep_workers`` processes: the reference walks,
-   the problems sampled from them, a feasibility check of each (Clarabel on
-   the sparse formulation; infeasible problems are dropped and listed), and
+1. untimed, as Ray tasks, ``prep_workers`` at a time (:func:`~mpcwalk.sweep.map_tasks`):
+   the reference walks, the problems sampled from them, a feasibility check of each
+   (Clarabel on the sparse formulation; infeasible problems are dropped and listed), and
    the export of the qpbenchmark test set;
-2. timed, in ``timing_workers`` processes (default 1): every case
-   (problem x formulation x back-end x tolerance level x start) through
-   :class:`~mpcwalk.bench.solvers.timed_pool.TimedPool`; rows go to ``results.csv.gz``;
-3. timed, one process: per-tick time of every generator with the qpmpc peer
-   (:mod:`mpcwalk.bench.ticks`), then the in-loop walks;
-4. qpbenchmark itself on the exported set (reduced: a subset of solvers);
+2. timed, on ``timing_workers`` Ray timing actors (default 1; one CPU each, one case at a
+   time: :mod:`mpcwalk.sweep.timing`): every case (problem x formulation x back-end x
+   tolerance level x start) through
+   :class:`~mpcwalk.bench.solvers.timed_solves.TimedSolves`; rows go to ``results.csv.gz``;
+3. timed, one at a time: per-tick time of every generator with the qpmpc peer
+   (:mod:`mpcwalk.bench.ticks`) on a timing actor, then the in-loop walks, one Ray task at
+   a time;
+4. qpbenchmark itself on the exported set (reduced: a subset of solvers), on a timing actor;
 5. the report and its figures.
 """
 
 import importlib
 import json
-import multiprocessing
 import os
 import platform
 import shutil
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
@@ -44,13 +44,14 @@ from mpcwalk.bench.solvers.results import RESULTS_FILE, write_results
 from mpcwalk.bench.solvers.sampling import reference_walk, sample_problems
 from mpcwalk.bench.solvers.side_runs import (
     fast_qpsolvers,
-    run_isolated,
     run_loops,
     run_qpbenchmark_isolated,
     tick_benchmark,
 )
-from mpcwalk.bench.solvers.timed_pool import TimedPool
+from mpcwalk.bench.solvers.timed_solves import TimedSolves
 from mpcwalk.bench.solvers.tolerances import select_levels
+from mpcwalk.sweep import map_tasks
+from mpcwalk.sweep.timing import run_isolated
 
 
 def _reference_found(problem: WalkingProblem) -> bool:
@@ -104,6 +105,13 @@ def prepare_walk(family: str, walk: str, config: SolverBenchConfig) -> dict:
         "dropped": dropped,
         "reference_failures": ref.nb_failures,
     }
+
+
+def export_chunk(chunk: list, out_dir: Path, time_limit: float) -> list[str]:
+    """Export some problems of the qpbenchmark test set (a task of the preparation)."""
+    from mpcwalk.bench.solvers.qpbenchmark_export import export_test_set
+
+    return export_test_set(chunk, out_dir, time_limit=time_limit)
 
 
 def make_cases(
@@ -188,39 +196,41 @@ def run_solver_benchmark(
     durations: dict[str, float] = {}
     backends = list(config.backends) if config.backends else benchmark_backends()
     t0 = time.perf_counter()
-    context = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(config.prep_workers, mp_context=context) as pool:
-        jobs = [
-            pool.submit(prepare_walk, f, w, config)
-            for f in dict.fromkeys(config.families + (config.sweep_family,))
-            for w in dict.fromkeys(config.walks + (config.sweep_walk,))
-            if (f in config.families and w in config.walks)
-            or (f == config.sweep_family and w == config.sweep_walk)
-        ]
-        prepared = [job.result() for job in jobs]
-        problems = [item for p in prepared for item in p["kept"]]
-        export = [
-            (p, f)
-            for p, tag in problems
-            for f in config.formulations
-            if p.horizon <= config.export_max_horizon
-        ]
-        from mpcwalk.bench.solvers.qpbenchmark_export import export_test_set
-
-        chunks = [export[i :: config.prep_workers] for i in range(config.prep_workers)]
-        exported = [
-            pool.submit(
-                export_test_set, chunk, out_dir / "qpbenchmark", time_limit=config.time_limit
-            )
+    walks = [
+        (f, w)
+        for f in dict.fromkeys(config.families + (config.sweep_family,))
+        for w in dict.fromkeys(config.walks + (config.sweep_walk,))
+        if (f in config.families and w in config.walks)
+        or (f == config.sweep_family and w == config.sweep_walk)
+    ]
+    prepared = map_tasks(
+        [(prepare_walk, (f, w, config)) for f, w in walks],
+        workers=config.prep_workers,
+        progress=False,
+    )
+    problems = [item for p in prepared for item in p["kept"]]
+    export = [
+        (p, f)
+        for p, tag in problems
+        for f in config.formulations
+        if p.horizon <= config.export_max_horizon
+    ]
+    chunks = [export[i :: config.prep_workers] for i in range(config.prep_workers)]
+    exported = map_tasks(
+        [
+            (export_chunk, (chunk, out_dir / "qpbenchmark", config.time_limit))
             for chunk in chunks
             if chunk
-        ]
-        nb_exported = sum(len(job.result()) for job in exported)
+        ],
+        workers=config.prep_workers,
+        progress=False,
+    )
+    nb_exported = sum(len(names) for names in exported)
     durations["prepare"] = time.perf_counter() - t0
 
     cases = make_cases(problems, config, backends)
     t0 = time.perf_counter()
-    rows = TimedPool(config.timing_workers).run(cases, progress=progress, desc="solves")
+    rows = TimedSolves(config.timing_workers).run(cases, progress=progress, desc="solves")
     durations["solves"] = time.perf_counter() - t0
     write_results(rows, out_dir / RESULTS_FILE)
 

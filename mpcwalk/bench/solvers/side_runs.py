@@ -1,11 +1,10 @@
-"""The runs of ``mpcwalk bench solvers`` beside the table of solves, each in a fresh
-single-threaded process: the MPC tick against the closed form and the qpmpc peer, the closed
-loops (LIPM and MuJoCo) with each back-end fast enough offline, and qpbenchmark itself on the
-exported test set."""
+"""The runs of ``mpcwalk bench solvers`` beside the table of solves, timed one at a time:
+the MPC tick against the closed form and the qpmpc peer and qpbenchmark itself on the
+exported test set each on a fresh timing actor (:func:`~mpcwalk.sweep.timing.run_isolated`:
+one CPU, single-threaded, nothing beside it), and the closed loops (LIPM and MuJoCo) with
+each back-end fast enough offline as Ray tasks run one at a time
+(:func:`~mpcwalk.sweep.map_tasks` with one worker)."""
 
-import multiprocessing
-import os
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict
 from pathlib import Path
 
@@ -15,24 +14,12 @@ from mpcwalk.bench.solvers.backends import OPTI_BACKEND
 from mpcwalk.bench.solvers.config import SolverBenchConfig
 from mpcwalk.bench.solvers.in_loop import LoopRun
 from mpcwalk.bench.solvers.results import select
-from mpcwalk.walking.processes import single_thread_environment
+from mpcwalk.sweep import map_tasks
+from mpcwalk.sweep.timing import run_isolated
 
 #: qpsolvers back-ends left out of the reduced qpbenchmark run by default
 #: (JAX-based: each solve recompiles, seconds per problem).
 SLOW_QPBENCHMARK_SOLVERS = ("jaxopt_osqp", "qpax")
-
-
-def _silence_stdout() -> None:  # pragma: no cover - runs in the child
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    os.dup2(devnull, 1)
-
-
-def run_isolated(function, *args, **kwargs):
-    """Call ``function`` in a fresh single-threaded process (timed work)."""
-    context = multiprocessing.get_context("spawn")
-    with single_thread_environment():
-        with ProcessPoolExecutor(1, mp_context=context, initializer=_silence_stdout) as pool:
-            return pool.submit(function, *args, **kwargs).result()
 
 
 def fast_qpsolvers(rows: list[dict], config: SolverBenchConfig, limit: float = 2e-3) -> list[str]:
@@ -84,59 +71,58 @@ def loop_candidates(rows: list[dict], config: SolverBenchConfig) -> list[tuple[s
     return out
 
 
-def _loop_batch(
-    pairs: list[tuple[str, str]], config: SolverBenchConfig, progress: bool = False
-) -> dict[str, list[dict]]:
-    """Closed loops of each (back-end, formulation): on the LIPM, and in MuJoCo."""
-    from tqdm import tqdm
-
+def loop_pair(backend: str, formulation: str, config: SolverBenchConfig) -> list[dict]:
+    """Closed loops of one (back-end, formulation): on the LIPM, and in MuJoCo (a task)."""
     from mpcwalk.bench.solvers.in_loop import run_lipm_loop, run_mujoco_loop
     from mpcwalk.bench.solvers.tolerances import tolerance_levels
 
     level = tolerance_levels(config.time_limit)["default"]
-    out: dict[str, list[dict]] = {"lipm": [], "mujoco": []}
-    for backend, formulation in tqdm(pairs, desc="loops", disable=not progress):
-        runs: list[LoopRun | None] = [
-            run_lipm_loop(
+    runs: list[LoopRun | None] = [
+        run_lipm_loop(
+            backend,
+            formulation,
+            level,
+            nb_steps=config.loop_nb_steps,
+            control_period=config.control_period,
+            nb_pushes=config.loop_pushes,
+            push_speed=config.loop_push_speed,
+            seed=config.seed,
+        )
+    ]
+    if config.mujoco_robot:
+        runs.append(
+            run_mujoco_loop(
                 backend,
                 formulation,
                 level,
+                robot=config.mujoco_robot,
                 nb_steps=config.loop_nb_steps,
                 control_period=config.control_period,
-                nb_pushes=config.loop_pushes,
-                push_speed=config.loop_push_speed,
-                seed=config.seed,
             )
-        ]
-        if config.mujoco_robot:
-            runs.append(
-                run_mujoco_loop(
-                    backend,
-                    formulation,
-                    level,
-                    robot=config.mujoco_robot,
-                    nb_steps=config.loop_nb_steps,
-                    control_period=config.control_period,
-                )
-            )
-        for run in runs:
-            if run is None:
-                continue
+        )
+    out = []
+    for run in runs:
+        if run is not None:
             summary = run.summary()
             summary["solve_times_us"] = [round(t * 1e6, 1) for t in run.solve_times]
-            out[run.plant].append(summary)
+            out.append(summary)
     return out
 
 
 def run_loops(rows: list[dict], config: SolverBenchConfig, progress: bool) -> dict:
-    """The loops of the back-ends fast enough offline, in an isolated process."""
+    """The loops of the back-ends fast enough offline, one Ray task at a time (timed)."""
     from mpcwalk.bench.solvers.in_loop import mujoco_walk_runner
 
     pairs = loop_candidates(rows, config)
-    runs = run_isolated(_loop_batch, pairs, config, progress) if pairs else {}
+    tasks = [(loop_pair, (backend, formulation, config)) for backend, formulation in pairs]
+    runs = [
+        s
+        for batch in map_tasks(tasks, workers=1, progress=progress, description="loops")
+        for s in batch
+    ]
     return {
-        "lipm": runs.get("lipm", []),
-        "mujoco": runs.get("mujoco", []),
+        "lipm": [s for s in runs if s["plant"] == "lipm"],
+        "mujoco": [s for s in runs if s["plant"] == "mujoco"],
         "mujoco_available": mujoco_walk_runner() is not None,
         "mujoco_robot": config.mujoco_robot,
     }

@@ -1,0 +1,336 @@
+"""The report of the robustness matrix: success rates with Wilson intervals, the goals, the
+worst cases with the command that reruns each, and the quality of the walks that succeed.
+
+A walk *succeeds* when it ran (no error) and did not fall. The tables read the rows of the
+matrix's results table (:func:`mpcwalk.sweep.read_rows`); :func:`write_report` writes
+``report.md`` and the figures (:mod:`mpcwalk.experiments.robustness_matrix_plots`).
+"""
+
+import math
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+from typing import Any
+
+from mpcwalk.experiments.robustness_matrix import FACTORS, LEVEL_UNITS
+from mpcwalk.walking.markdown import table
+
+#: The QP controllers of the goals, on the robots of the goals.
+GOAL_CONTROLLERS = ("preview", "mpc", "mpc-steps")
+GOAL_ROBOTS = ("bioloid-like", "g1")
+#: Success rates the goals ask for: over the single-factor walks, over the combinations.
+GOAL_SINGLE, GOAL_COMBINATION = 0.95, 0.85
+REFERENCE = "paper-m"
+
+
+def wilson(successes: int, n: int, z: float = 1.96) -> tuple[float, float]:
+    """Wilson score interval of a success rate (95 % by default); (0, 1) when ``n`` is 0."""
+    if n == 0:
+        return 0.0, 1.0
+    p = successes / n
+    denominator = 1.0 + z * z / n
+    centre = (p + z * z / (2 * n)) / denominator
+    half = z * math.sqrt(p * (1.0 - p) / n + z * z / (4 * n * n)) / denominator
+    return max(0.0, centre - half), min(1.0, centre + half)
+
+
+def succeeded(row: dict[str, Any]) -> bool:
+    """The walk ran and did not fall."""
+    return not row.get("error") and row.get("fell") is False
+
+
+def cell_rows(rows: Iterable[dict], robot: str, controller: str, cell: str) -> list[dict]:
+    """The rows of one cell: ``cell`` is a factor (its single-factor walks), ``"nominal"``,
+    ``"single"`` (every single-factor walk) or ``"combination"``."""
+    out = []
+    for row in rows:
+        if row["robot"] != robot or row["controller"] != controller:
+            continue
+        group = row["group"]
+        if cell in ("single", "combination", "nominal"):
+            keep = group == cell
+        else:
+            keep = group == "single" and row["factor"] == cell
+        if keep:
+            out.append(row)
+    return out
+
+
+def rate(rows: Sequence[dict]) -> tuple[int, int]:
+    """(successes, walks)."""
+    return sum(succeeded(row) for row in rows), len(rows)
+
+
+def rate_text(successes: int, n: int) -> str:
+    """``k/n, p % [low, high]``."""
+    if n == 0:
+        return "-"
+    low, high = wilson(successes, n)
+    return f"{successes}/{n}, {100 * successes / n:.0f} % [{100 * low:.0f}, {100 * high:.0f}]"
+
+
+def robots_and_controllers(rows: Sequence[dict]) -> dict[str, list[str]]:
+    """Robot -> its controllers, in the order of the table."""
+    out: dict[str, list[str]] = {}
+    for row in rows:
+        names = out.setdefault(row["robot"], [])
+        if row["controller"] not in names:
+            names.append(row["controller"])
+    return out
+
+
+CELLS = ("nominal", *FACTORS, "single", "combination")
+
+
+def success_table(rows: Sequence[dict], robot: str, controllers: Sequence[str]) -> str:
+    """Success per factor (a line) and controller (a column), with 95 % Wilson intervals."""
+    titles = {"single": "**every single factor**", "combination": "**combinations**"}
+    lines = []
+    for cell in CELLS:
+        entry: dict[str, Any] = {"cell": titles.get(cell, cell)}
+        for controller in controllers:
+            entry[controller] = rate_text(*rate(cell_rows(rows, robot, controller, cell)))
+        lines.append(entry)
+    return table(lines, [("cell", "factor", 0)] + [(c, c, 0) for c in controllers])
+
+
+def goal_checks(rows: Sequence[dict]) -> list[dict[str, Any]]:
+    """The goals of the QP controllers on the goals' robots: >= 95 % over the single-factor
+    walks, >= 85 % over the combinations, never below ``paper-m`` in any cell; each with
+    what missed it (the factors, the cells, the case identifiers of the falls)."""
+    checks = []
+    for robot in GOAL_ROBOTS:
+        for controller in GOAL_CONTROLLERS:
+            mine = [r for r in rows if r["robot"] == robot and r["controller"] == controller]
+            if not mine:
+                continue
+            for cell, goal in (("single", GOAL_SINGLE), ("combination", GOAL_COMBINATION)):
+                walks = cell_rows(rows, robot, controller, cell)
+                k, n = rate(walks)
+                failed = [r for r in walks if not succeeded(r)]
+                where = sorted({r["factor"] for r in failed})
+                checks.append(
+                    {
+                        "robot": robot,
+                        "controller": controller,
+                        "goal": f">= {100 * goal:.0f} % over the "
+                        + ("single-factor walks" if cell == "single" else "combinations"),
+                        "value": rate_text(k, n),
+                        "met": n > 0 and k / n >= goal,
+                        "missed": ", ".join(where),
+                        "cases": ", ".join(str(r["case_id"]) for r in failed),
+                    }
+                )
+            if not [r for r in rows if r["robot"] == robot and r["controller"] == REFERENCE]:
+                continue  # no reference to compare with
+            below = []
+            for cell in ("nominal", *FACTORS, "combination"):
+                k, n = rate(cell_rows(rows, robot, controller, cell))
+                kr, nr = rate(cell_rows(rows, robot, REFERENCE, cell))
+                if n and nr and k / n < kr / nr:
+                    below.append(f"{cell} ({k}/{n} < {kr}/{nr})")
+            checks.append(
+                {
+                    "robot": robot,
+                    "controller": controller,
+                    "goal": f"never below {REFERENCE} in any cell",
+                    "value": f"{len(below)} cell(s) below",
+                    "met": not below,
+                    "missed": "; ".join(below),
+                    "cases": "",
+                }
+            )
+    return checks
+
+
+def goals_text(checks: Sequence[dict]) -> str:
+    """The goal checks as a table."""
+    if not checks:
+        return "No QP controller of the goals' robots in this run.\n"
+    return table(
+        [{**c, "met": "met" if c["met"] else "**NOT met**"} for c in checks],
+        [
+            ("robot", "robot", 0),
+            ("controller", "controller", 0),
+            ("goal", "goal", 0),
+            ("value", "measured", 0),
+            ("met", "", 0),
+            ("missed", "missed at (factors / cells)", 0),
+            ("cases", "falls (case ids, in the worst cases below and in results.csv)", 0),
+        ],
+    )
+
+
+def world_text(row: dict[str, Any]) -> str:
+    """What a walk's world changed, in words."""
+    parts = []
+    if "command" in str(row["factor"]).split("+"):
+        parts.append(f"v ({row['vx']:g}, {row['vy']:g}, {row['vyaw']:g})")
+    for start, duration, fx, fy, _ in row.get("pushes") or []:
+        impulse = math.hypot(fx, fy) * duration
+        angle = math.degrees(math.atan2(fy, fx)) % 360.0
+        parts.append(f"push {impulse:.2f} N s at {angle:.0f} deg, t {start:g} s")
+    for key, label, nominal in (
+        ("mass_scale", "mass x", 1.0),
+        ("friction", "mu ", None),
+        ("noise_scale", "noise x", 1.0),
+        ("latency_periods", "latency ", None),
+        ("servo_strength", "servo x", 1.0),
+        ("ground_tilt", "tilt (deg) ", 0.0),
+        ("ground_roughness", "bumps (m) ", 0.0),
+    ):
+        if row.get(key) not in (nominal, None):
+            parts.append(f"{label}{row[key]:g}")
+    if row.get("com_dx") or row.get("com_dy"):
+        parts.append(f"com ({100 * row['com_dx']:.1f}, {100 * row['com_dy']:.1f}) cm")
+    return "; ".join(parts) or "nominal"
+
+
+def worst_cases(rows: Sequence[dict], *, limit: int = 30) -> str:
+    """The walks that fell or could not run, the goals' first, earliest falls first, each
+    with the ``mpcwalk walk`` command that reruns it."""
+    from mpcwalk.sweep.case import WalkCase
+
+    failed = [row for row in rows if not succeeded(row)]
+    if not failed:
+        return "No walk fell.\n"
+
+    def key(row):
+        goal = row["robot"] in GOAL_ROBOTS and row["controller"] in GOAL_CONTROLLERS
+        return (not goal, row.get("fall_time_s") or 0.0)
+
+    lines = []
+    for row in sorted(failed, key=key)[:limit]:
+        case = case_of(row, WalkCase)
+        what = row.get("error") or f"fell at {row['fall_time_s']:.1f} s ({row['fall_reason']})"
+        lines.append(
+            f"- `{row['case_id']}` {row['robot']}, {row['controller']}, {row['factor']}: "
+            f"{world_text(row)}; {what}, {row['steps_completed']}/{row['steps_planned']} steps\n"
+            f"  `{case.command_line()}`"
+        )
+    more = len(failed) - len(lines)
+    tail = f"\n\n({more} more falls in `results.csv`.)" if more > 0 else ""
+    return f"{len(failed)} walks fell or could not run.\n\n" + "\n".join(lines) + tail + "\n"
+
+
+def case_of(row: dict[str, Any], cls):
+    """The :class:`~mpcwalk.sweep.WalkCase` of a row of the table."""
+    return cls(
+        row["robot"],
+        row["controller"],
+        command=(row["vx"], row["vy"], row["vyaw"]),
+        nb_steps=row["nb_steps"],
+        pushes=tuple(tuple(p) for p in row.get("pushes") or ()),
+        mass_scale=row["mass_scale"],
+        com_offset=(row["com_dx"], row["com_dy"]),
+        friction=row["friction"],
+        noise_scale=row["noise_scale"],
+        latency_periods=row["latency_periods"],
+        servo_strength=row["servo_strength"],
+        ground_tilt=row["ground_tilt"],
+        ground_tilt_direction=row["ground_tilt_direction"],
+        ground_roughness=row["ground_roughness"],
+        seed=row["seed"],
+        control_period=row["control_period"],
+        labels=(("group", row["group"]), ("factor", row["factor"]), ("level", row["level"])),
+    )
+
+
+def _median(values: Iterable[float | None]) -> float | None:
+    kept = sorted(v for v in values if v is not None)
+    if not kept:
+        return None
+    middle = len(kept) // 2
+    return kept[middle] if len(kept) % 2 else 0.5 * (kept[middle - 1] + kept[middle])
+
+
+def quality_table(rows: Sequence[dict]) -> str:
+    """Median foot placement error and CoP margin of the walks that succeed."""
+    lines = []
+    for robot, controllers in robots_and_controllers(rows).items():
+        for controller in controllers:
+            ok = [
+                r
+                for r in rows
+                if r["robot"] == robot and r["controller"] == controller and succeeded(r)
+            ]
+            margin = _median(r["cop_margin_p05_m"] for r in ok)
+            lines.append(
+                {
+                    "robot": robot,
+                    "controller": controller,
+                    "n": len(ok),
+                    "foot": _median(r["foot_position_error_cm_mean"] for r in ok),
+                    "step": _median(r["foot_step_error_cm_max"] for r in ok),
+                    "margin": None if margin is None else 1e3 * margin,
+                }
+            )
+    return table(
+        lines,
+        [
+            ("robot", "robot", 0),
+            ("controller", "controller", 0),
+            ("n", "walks that succeed", 0),
+            ("foot", "foot placement error, mean of a walk [cm]", 2),
+            ("step", "step error, max of a walk [cm]", 2),
+            ("margin", "CoP margin, 5th percentile of a walk [mm]", 1),
+        ],
+    )
+
+
+def levels_text() -> str:
+    """What the level of each factor is."""
+    return "; ".join(f"{factor}: {unit}" for factor, unit in LEVEL_UNITS.items())
+
+
+def write_report(
+    out_dir: str | Path,
+    rows: Sequence[dict],
+    *,
+    header: str,
+    scaling: str = "",
+    figures: bool = True,
+) -> Path:
+    """Write ``report.md`` (and the figures) into ``out_dir``; returns its path."""
+    out = Path(out_dir)
+    names: list[str] = []
+    if figures:
+        from mpcwalk.experiments.robustness_matrix_plots import write_figures
+
+        names = write_figures(out, rows)
+    parts = [header, "## Goals of the QP controllers\n", goals_text(goal_checks(rows))]
+    by_robot = robots_and_controllers(rows)
+    parts.append("## Success rates (95 % Wilson intervals)\n")
+    for robot, controllers in by_robot.items():
+        parts += [f"### {robot}\n", success_table(rows, robot, controllers)]
+    parts += [
+        f"Levels: {levels_text()}.\n",
+        "## The walks that succeed\n",
+        quality_table(rows),
+        "## Worst cases\n",
+        worst_cases(rows),
+    ]
+    if names:
+        parts += ["## Figures\n", "\n".join(f"![{n}]({n})" for n in names) + "\n"]
+    if scaling:
+        parts += ["## Scaling of the engine\n", scaling]
+    path = out / "report.md"
+    path.write_text("\n".join(parts))
+    return path
+
+
+__all__ = [
+    "GOAL_CONTROLLERS",
+    "GOAL_ROBOTS",
+    "REFERENCE",
+    "case_of",
+    "cell_rows",
+    "goal_checks",
+    "quality_table",
+    "rate",
+    "robots_and_controllers",
+    "succeeded",
+    "success_table",
+    "wilson",
+    "worst_cases",
+    "write_report",
+]

@@ -1,0 +1,85 @@
+"""The simulated ground: tilted (gravity turned into the slope's frame) and rough (MuJoCo
+height field), from `run_walk` and `mpcwalk walk`."""
+
+import json
+import math
+
+import mujoco
+import numpy as np
+import pytest
+from conftest import get_robot
+
+from mpcwalk.cli import main as cli_main
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.robot.ground import FIELD_NAME, Ground, clear_radius
+from mpcwalk.sim import Simulation
+
+
+def test_bad_grounds_are_named():
+    with pytest.raises(ConfigurationError, match="tilt"):
+        Ground(tilt=30.0)
+    with pytest.raises(ConfigurationError, match="roughness"):
+        Ground(roughness=-0.01)
+    with pytest.raises(ConfigurationError, match="seed"):
+        Ground(seed=-1)
+
+
+def test_a_tilt_turns_gravity_and_the_imu_reads_it():
+    robot = get_robot("bioloid-like")
+    ground = Ground(tilt=5.0, tilt_direction=90.0)
+    simulation = Simulation(robot, ground=ground)
+    g = simulation.model.opt.gravity
+    assert np.linalg.norm(g) == pytest.approx(9.81)
+    assert math.degrees(math.atan2(-g[1], -g[2])) == pytest.approx(5.0)  # downhill: -y
+    assert g[0] == pytest.approx(0.0, abs=1e-12)
+    state = simulation.reset(robot.q0)
+    for _ in range(20):
+        state = simulation.step(robot.q0[7:])
+    accelerometer = state.sensors.imu.accelerometer  # specific force, IMU frame
+    assert abs(accelerometer[1]) > 0.5  # about g sin(5 deg) = 0.85 m/s^2 sideways
+
+
+def test_a_rough_ground_has_bumps_beyond_the_start_and_the_same_seed_the_same_bumps():
+    robot = get_robot("bioloid-like")
+    ground = Ground(roughness=0.01, seed=3)
+    heights = ground.heights(clear_radius(robot))
+    assert 0.0 <= heights.min() and heights.max() <= 0.01 + 1e-12
+    assert heights.max() > 0.008
+    centre = heights.shape[0] // 2
+    assert heights[centre, centre] == 0.0  # the initial stance stays flat
+    assert np.array_equal(heights, Ground(roughness=0.01, seed=3).heights(clear_radius(robot)))
+    assert not np.array_equal(heights, Ground(roughness=0.01, seed=4).heights(clear_radius(robot)))
+    simulation = Simulation(robot, ground=ground)
+    geom = mujoco.mj_name2id(simulation.model, mujoco.mjtObj.mjOBJ_GEOM, FIELD_NAME)
+    assert simulation.model.geom_conaffinity[geom] == 1  # the soles touch it
+    flat = Simulation(robot)
+    assert flat.model.geom_conaffinity[geom] != 1  # dormant on the level floor
+
+
+@pytest.mark.slow
+def test_mpc_walks_up_a_slope_and_over_bumps_from_the_command_line(tmp_path):
+    out = tmp_path / "walk"
+    code = cli_main(
+        [
+            "walk",
+            "--robot",
+            "bioloid-like",
+            "--controller",
+            "mpc",
+            "--vx",
+            "0.1",
+            "--steps",
+            "4",
+            "--ground-tilt",
+            "3",
+            "--ground-roughness",
+            "0.004",
+            "--out",
+            str(out),
+            "--no-progress",
+        ]
+    )
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert code == 0 and not metrics["fell"]
+    world = metrics["config"]["perturbation"]
+    assert world["ground_tilt_deg"] == 3.0 and world["ground_roughness_m"] == 0.004

@@ -1,0 +1,118 @@
+"""The sweep engine: cases as Ray tasks, rows streamed into a table, nothing lost, nothing
+repeated; and the robustness matrix's quick form."""
+
+import csv
+import json
+import math
+import sys
+from dataclasses import dataclass
+
+import pytest
+
+from mpcwalk.cli import main as cli_main
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.sweep import TIMING_COLUMNS, Sweep, read_rows, run_sweep
+
+pytestmark = pytest.mark.slow
+
+
+@dataclass(frozen=True)
+class Case:
+    """A case of the engine's tests: a number, its seed."""
+
+    value: float
+    seed: int = 0
+
+    @property
+    def case_id(self) -> str:
+        return f"v{self.value:g}-s{self.seed}"
+
+    def to_columns(self) -> dict:
+        return {"case_id": self.case_id, "value": self.value, "seed": self.seed}
+
+
+def square_root(case: Case) -> dict:
+    """The runner: raises on a negative value (a case that raises)."""
+    return {"root": math.sqrt(case.value), "seeded": case.value * 1000 + case.seed}
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _pickled_by_value():
+    """Ray's workers do not have the tests folder on their path: send this module's
+    functions by value."""
+    import ray
+
+    ray.cloudpickle.register_pickle_by_value(sys.modules[__name__])
+    yield
+    ray.cloudpickle.unregister_pickle_by_value(sys.modules[__name__])
+
+
+CASES = tuple(Case(v, seed) for v in (16.0, 1.0, -4.0, 9.0, 2.0) for seed in (0, 1))
+
+
+def sweep(**settings) -> Sweep:
+    return Sweep("roots", CASES, square_root, ("root", "seeded"), settings=settings)
+
+
+def without_timing(rows):
+    return [{k: v for k, v in row.items() if k not in TIMING_COLUMNS} for row in rows]
+
+
+def test_a_killed_sweep_resumes_with_only_the_missing_cases(tmp_path):
+    """Stopped after 4 cases (as a kill would leave it: rows appended as they came), the
+    same command runs the 6 missing ones only, and the table equals an uninterrupted run's;
+    the case that raises is a row with its error, the others have no error."""
+    first = run_sweep(sweep(), tmp_path / "a", workers=2, max_cases=4, progress=False)
+    assert not first.complete and first.nb_run == 4 and len(first.rows) == 4
+    second = run_sweep(sweep(), tmp_path / "a", workers=2, progress=False)
+    assert second.complete and second.nb_resumed == 4 and second.nb_run == 6
+    whole = run_sweep(sweep(), tmp_path / "b", workers=1, progress=False)
+    assert whole.nb_run == 10
+    assert without_timing(second.rows) == without_timing(whole.rows)
+    assert without_timing(read_rows(tmp_path / "a" / "results.csv")) == without_timing(whole.rows)
+    errors = {row["case_id"]: row["error"] for row in whole.rows}
+    assert errors["v-4-s0"].startswith("ValueError: math domain error")
+    assert all(error is None for case_id, error in errors.items() if not case_id.startswith("v-4"))
+    assert [row["case_id"] for row in whole.rows] == [case.case_id for case in CASES]
+    assert whole.rows[0]["root"] == 4.0 and whole.rows[1]["seeded"] == 16001.0
+    # run again: nothing to do
+    third = run_sweep(sweep(), tmp_path / "a", workers=2, progress=False)
+    assert third.nb_run == 0 and third.nb_resumed == 10
+
+
+def test_a_changed_configuration_is_refused_unless_overwritten(tmp_path):
+    run_sweep(sweep(level=1), tmp_path, workers=1, max_cases=1, progress=False)
+    with pytest.raises(ConfigurationError, match="another configuration.*--overwrite"):
+        run_sweep(sweep(level=2), tmp_path, workers=1, progress=False)
+    again = run_sweep(sweep(level=2), tmp_path, workers=1, overwrite=True, progress=False)
+    assert again.complete and again.nb_resumed == 0
+    with pytest.raises(ConfigurationError, match="positive integer"):
+        run_sweep(sweep(), tmp_path / "c", workers=0, progress=False)
+
+
+def test_the_quick_robustness_matrix(tmp_path):
+    """`mpcwalk sweep robustness --quick`: a few dozen short walks on local Ray; `mpc` walks
+    the nominal world, `paper-m-open` falls under the push it cannot survive (beyond the
+    LIPM's no-step bound), and the report names the reproducing command of each fall."""
+    out = tmp_path / "matrix"
+    assert cli_main(["sweep", "robustness", "--quick", "--out", str(out), "--no-progress"]) == 0
+    with open(out / "results.csv", newline="") as stream:
+        header = next(csv.reader(stream))
+    rows = read_rows(out / "results.csv")
+    for column in ("case_id", "robot", "controller", "group", "factor", "fell", "error"):
+        assert column in header
+    assert len(rows) == json.loads((out / "sweep.json").read_text())["nb_cases"] >= 20
+    assert not any(row["error"] for row in rows)
+
+    def outcome(controller, factor):
+        return [r["fell"] for r in rows if r["controller"] == controller and r["factor"] == factor]
+
+    assert outcome("mpc", "nominal") == [False]
+    assert outcome("paper-m-open", "push") == [True]
+    report = (out / "report.md").read_text()
+    assert (
+        "Wilson" in report
+        and "mpcwalk walk --robot bioloid-like --controller paper-m-open" in report
+    )
+    # the same command again runs nothing
+    assert cli_main(["sweep", "robustness", "--quick", "--out", str(out), "--no-progress"]) == 0
