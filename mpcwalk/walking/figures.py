@@ -40,15 +40,9 @@ def plot_top_view(schedule: ContactSchedule, times, com, zmp, *, title: str = ""
 
     plan = schedule.plan
     feet = [plan.initial_left, plan.initial_right, *plan.steps]
+    new_figure = ax is None
     if ax is None:
-        xy = np.array([f.xy for f in feet])
-        margin = schedule.foot.length
-        width = np.ptp(xy[:, 0]) + 2 * margin
-        height = np.ptp(xy[:, 1]) + 2 * margin
-        # Size the figure to the walk's aspect (a straight walk is long and thin).
-        fig_width = 10.0
-        fig_height = float(np.clip(7.5 * height / width, 2.0, 8.0)) + 1.2
-        fig, ax = plt.subplots(figsize=(fig_width, fig_height), layout="constrained")
+        fig, ax = plt.subplots(figsize=(10.0, 4.0), layout="constrained")
     else:
         fig = ax.figure
     colors = {Side.LEFT: "tab:blue", Side.RIGHT: "tab:red"}
@@ -72,9 +66,20 @@ def plot_top_view(schedule: ContactSchedule, times, com, zmp, *, title: str = ""
     ax.set_ylabel("y [m]")
     ax.grid(True, alpha=0.3)
     place_legend_below(ax)
-    if title:
-        ax.set_title(title)
+    ax.set_title(title or "Footsteps, CoM and ZMP seen from above [m]")
+    if new_figure:
+        fit_figure_to_data(ax)
     return fig
+
+
+def fit_figure_to_data(ax, *, width: float = 10.0, plot_width: float = 6.9) -> None:
+    """Size the figure so that the equal-aspect axes fill it: a straight walk's long thin
+    strip gets a short wide figure, a turning walk a taller one (``plot_width`` [in]: what
+    the axes get of ``width`` beside the legend)."""
+    ax.autoscale_view()
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    height = plot_width * (y1 - y0) / max(x1 - x0, 1e-9) + 1.4  # title, labels
+    ax.figure.set_size_inches(width, float(np.clip(height, 2.8, 11.0)))
 
 
 def place_legend_below(ax) -> None:
@@ -119,8 +124,7 @@ def plot_com_zmp(
         ax.grid(True, alpha=0.3)
     axes[0].legend(loc="best", fontsize=8)
     axes[-1].set_xlabel("time [s] (grey: single support)")
-    if title:
-        axes[0].set_title(title)
+    axes[0].set_title(title or "CoM and ZMP over time [m]")
     fig.tight_layout()
     return fig
 
@@ -129,21 +133,54 @@ def _label_as_measured(ax) -> None:
     """The planning plots draw a planned ZMP and CoM; here they are the measured CoP and CoM."""
     for line in ax.get_lines():
         if line.get_label() == "ZMP":
-            line.set_label("CoP (measured)")
+            line.set_label("CoP, single support")
             line.set_color("tab:red")
             line.set_linewidth(0.6)
         elif line.get_label() == "CoM":
             line.set_label("CoM (measured)")
 
 
+def broken_at_phase_changes(
+    schedule: ContactSchedule, times, points, *, single_support: bool | None = None
+) -> np.ndarray:
+    """``points`` (n, 2) with a NaN row inserted wherever the support phase changes, so that
+    a measured CoP is drawn support phase by support phase (no line jumping between the
+    feet when the weight moves); ``single_support`` True (False) also blanks the points of
+    the double (single) support phases."""
+    points = np.array(points, dtype=float)
+    phases = schedule.phase_index(np.asarray(times, dtype=float))
+    if single_support is not None:
+        single = np.array([schedule.phases[i].single_support for i in phases])
+        points[single != single_support] = np.nan
+    cuts = np.flatnonzero(np.diff(phases) != 0) + 1
+    return np.insert(points, cuts, np.nan, axis=0)
+
+
 def plot_walk_top_view(schedule: ContactSchedule, log: WalkLog, *, title: str = ""):
     """Planned footsteps, landed soles, measured CoM and CoP seen from above (paper M
-    Fig. 1a, paper A Fig. 5)."""
+    Fig. 1a, paper A Fig. 5); the CoP drawn per support phase."""
     from matplotlib.patches import Polygon
 
-    fig = plot_top_view(schedule, log.time, log.com[:, :2], log.cop[:, :2], title=title)
+    cop = broken_at_phase_changes(schedule, log.time, log.cop[:, :2], single_support=True)
+    fig = plot_top_view(
+        schedule,
+        log.time,
+        log.com[:, :2],
+        cop,
+        title=title or "Footsteps, CoM and CoP of the walk seen from above [m]",
+    )
     ax = fig.axes[0]
     _label_as_measured(ax)
+    shifting = broken_at_phase_changes(schedule, log.time, log.cop[:, :2], single_support=False)
+    ax.plot(
+        shifting[:, 0],
+        shifting[:, 1],
+        ":",
+        color="tab:red",
+        lw=0.6,
+        alpha=0.6,
+        label="CoP, double support",
+    )
     ax.plot(
         log.com_reference[:, 0],
         log.com_reference[:, 1],
@@ -153,6 +190,7 @@ def plot_walk_top_view(schedule: ContactSchedule, log: WalkLog, *, title: str = 
         label="CoM reference",
     )
     checks = landing_check_times(schedule)
+    labelled: set[int] = set()
     for k, t in enumerate(checks):
         if t > log.time[-1] + 1e-9:
             break
@@ -172,10 +210,12 @@ def plot_walk_top_view(schedule: ContactSchedule, log: WalkLog, *, title: str = 
                 alpha=0.15,
                 color="tab:blue" if j == 0 else "tab:red",
                 lw=0,
-                label="landed soles" if k == 0 else None,
+                label=None if j in labelled else f"landed {_SIDES[j].value} sole",
             )
         )
+        labelled.add(j)
     place_legend_below(ax)
+    fit_figure_to_data(ax)
     return fig
 
 
@@ -187,7 +227,7 @@ def plot_walk_over_time(schedule: ContactSchedule, log: WalkLog, *, title: str =
         log.com[:, :2],
         log.cop[:, :2],
         zmp_reference=log.zmp_reference,
-        title=title,
+        title=title or "CoM and CoP of the walk over time [m]",
     )
     for axis, ax in enumerate(fig.axes):
         _label_as_measured(ax)
@@ -226,6 +266,5 @@ def plot_estimator(schedule: ContactSchedule, log: WalkLog, *, title: str = ""):
     for ax in axes:
         for phase_start in (schedule.walk_start, schedule.walk_end):
             ax.axvline(phase_start, color="0.7", lw=0.6, ls=":")
-    if title:
-        fig.suptitle(title)
+    fig.suptitle(title or "Estimated state against the simulator's ground truth")
     return fig

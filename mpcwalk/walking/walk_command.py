@@ -115,10 +115,12 @@ def write_outputs(result, out: Path, *, command, args) -> list[Path]:
 
     log_path = out / f"walk_log.{args.log_format}"
     written = [write_atomic(log_path, lambda tmp: result.log.save(tmp))]
-    what = f"v=({', '.join(f'{c:g}' for c in command)})" if command else "path"
+    what = (
+        f"v = ({command[0]:g} m/s, {command[1]:g} m/s, {command[2]:g} rad/s)" if command else "path"
+    )
     if args.path is not None:
         what = str(args.path)
-    title = f"{result.robot}, {result.generator}: {what}, T={result.config.step_duration_s:g} s"
+    title = f"{result.robot}, {result.generator}: {what}, T = {result.config.step_duration_s:g} s"
     if len(result.log):
         import matplotlib.pyplot as plt
 
