@@ -274,13 +274,36 @@ def _sensing(result: "WalkResult") -> str:
 
 
 def add_robots_parser(sub) -> argparse.ArgumentParser:
-    """Add the ``robots`` sub-command to ``sub``."""
-    return sub.add_parser(
+    """Add the ``robots`` sub-command to ``sub`` (``mpcwalk robots`` lists them,
+    ``mpcwalk robots check NAME|PRESET`` runs the checks a preset must pass)."""
+    p = sub.add_parser(
         "robots",
-        help="list the robots that load on this machine",
-        description="List the robots whose description is installed, with "
-        "their size and walking defaults.",
+        help="list the robots that load on this machine; 'robots check PRESET' checks one",
+        description="List the robots whose description is installed, with their size and "
+        "walking defaults. 'mpcwalk robots check NAME|PRESET.toml' runs the checks a preset "
+        "must pass: it loads, Pinocchio and MuJoCo agree, the nominal posture is flat and "
+        "stands under the servos, a short walk with mpc does not fall (exit code 1 when one "
+        "fails).",
     )
+    p.add_argument("action", nargs="?", choices=["check"], help="check one robot")
+    p.add_argument("robot", nargs="?", help="robot name or path of a preset file (.toml)")
+    p.add_argument("--no-walk", action="store_true", help="skip the short walk")
+    return p
+
+
+def run_robots_check(args) -> int:
+    """Run ``mpcwalk robots check ROBOT``: one line per check; 1 when one fails."""
+    from mpcwalk.walking.robot_check import check_robot
+
+    if not args.robot:
+        raise ConfigurationError(
+            "mpcwalk robots check needs a robot: a name (mpcwalk robots) or the path of a "
+            "preset file, e.g. mpcwalk robots check my_robot/my_biped.toml."
+        )
+    results = check_robot(args.robot, walk=not args.no_walk)
+    for result in results:
+        print(f"{'ok  ' if result.passed else 'FAIL'} {result.name}: {result.detail}")
+    return 0 if all(r.passed for r in results) else 1
 
 
 def run_robots_command(args) -> int:
@@ -291,6 +314,8 @@ def run_robots_command(args) -> int:
     """
     from mpcwalk.robot.loading import PRESETS_DIR, load_robot, robot_names
 
+    if getattr(args, "action", None) == "check":
+        return run_robots_check(args)
     names = robot_names()
     if not names:
         raise ConfigurationError(

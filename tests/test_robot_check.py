@@ -1,0 +1,47 @@
+"""`mpcwalk robots check`: every shipped preset passes the checks a preset must pass, and a
+broken one fails at the check that finds it."""
+
+import pytest
+
+from mpcwalk.cli import main as cli_main
+from mpcwalk.robot import loading, robot_names
+from mpcwalk.walking.robot_check import check_robot
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", robot_names())
+def test_every_shipped_preset_passes(name, capsys):
+    assert cli_main(["robots", "check", name]) == 0
+    out = capsys.readouterr().out
+    assert "FAIL" not in out and "ok   it walks" in out
+
+
+def _broken(tmp_path, old: str, new: str):
+    (tmp_path / "bioloid_like.xml").write_text(
+        (loading.ROBOTS_DIR / "bioloid_like.xml").read_text()
+    )
+    text = (loading.PRESETS_DIR / "bioloid_like.toml").read_text()
+    assert old in text
+    preset = tmp_path / "broken.toml"
+    preset.write_text(text.replace(old, new))
+    return preset
+
+
+def test_a_crooked_posture_fails_the_posture_check(tmp_path):
+    preset = _broken(tmp_path, "left_foot_pitch = -0.38", "left_foot_pitch = -0.2")
+    results = check_robot(preset, walk=False)
+    assert [r.passed for r in results] == [True, True, False]
+    assert (
+        results[-1].name == "the nominal posture is flat"
+        and "L sole not flat" in results[-1].detail
+    )
+
+
+def test_a_wrong_com_height_and_a_missing_frame_are_found(tmp_path, capsys):
+    preset = _broken(tmp_path, "com_height = 0.230", "com_height = 0.300")
+    assert "preset says 0.3000 m" in check_robot(preset, walk=False)[-1].detail
+    preset = _broken(tmp_path, 'left = "left_sole"', 'left = "left_toe"')
+    assert cli_main(["robots", "check", str(preset)]) == 1
+    out = capsys.readouterr().out
+    assert "FAIL it loads" in out and "left_toe" in out
+    assert cli_main(["robots", "check"]) == 2
