@@ -207,12 +207,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     from mpcwalk.bench.cli import add_bench_parser
     from mpcwalk.experiments.sweep_cli import add_sweep_parser
+    from mpcwalk.viewer.replay import add_replay_parser
     from mpcwalk.walking.cli import add_robots_parser, add_walk_parser
 
     add_bench_parser(sub)
     add_walk_parser(sub)
     add_robots_parser(sub)
     add_sweep_parser(sub)
+    add_replay_parser(sub)
     _use_formatter(parser)
     return parser
 
@@ -281,11 +283,25 @@ def _dispatch(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     if args.command == "walk":
         from mpcwalk.walking.walk_command import run_walk_command
 
+        if getattr(args, "view", False):
+            from mpcwalk.robot import load_robot
+            from mpcwalk.viewer.live import LiveView
+
+            view = LiveView(load_robot(args.robot), port=args.view_port)
+            print(f"the walk, live on http://127.0.0.1:{view.server.get_port()}")
+            try:
+                return run_walk_command(args, observer=view)
+            finally:
+                view.close()
         return run_walk_command(args)
     if args.command == "robots":
         from mpcwalk.walking.cli import run_robots_command
 
         return run_robots_command(args)
+    if args.command == "replay":
+        from mpcwalk.viewer.replay import run_replay_command
+
+        return run_replay_command(args)
     if args.command == "sweep":
         from mpcwalk.experiments.sweep_cli import run_sweep_command
 

@@ -144,6 +144,12 @@ def add_walk_parser(sub) -> argparse.ArgumentParser:
     add_world_arguments(p)
     p.add_argument("--video", action="store_true", help="render walk.mp4 (offscreen)")
     p.add_argument(
+        "--view",
+        action="store_true",
+        help="show the walk live in the browser (3D viewer on --view-port), in real time",
+    )
+    p.add_argument("--view-port", type=int, default=8080, help="port of the live viewer")
+    p.add_argument(
         "--log-format", choices=("npz", "csv"), default="npz", help="format of the per-tick log"
     )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")

@@ -10,8 +10,11 @@ detector only.
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
+
+import numpy as np
 
 from mpcwalk.control.controller import WalkingController
 from mpcwalk.control.faults import FaultMonitor
@@ -92,7 +95,12 @@ class ControlLoop:
         return self._last_estimate
 
     def run(
-        self, *, video: str | Path | None = None, progress: bool = False, label: str = "walk"
+        self,
+        *,
+        video: str | Path | None = None,
+        progress: bool = False,
+        label: str = "walk",
+        observer: Callable[[float, np.ndarray], None] | None = None,
     ) -> LoopOutcome:
         """Reset the simulation at ``robot.q0``, the estimator with its first readings and
         the planned start configuration, the controller; then tick.
@@ -145,6 +153,8 @@ class ControlLoop:
                 )
                 if recorder is not None:
                     recorder.capture(simulation.data, state.time)
+                if observer is not None:  # e.g. a live view: the time and MuJoCo's qpos
+                    observer(state.time, simulation.data.qpos)
                 bar.update(1)
                 fall = self.detector.check(state)
                 if fall.fell:

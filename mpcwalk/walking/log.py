@@ -28,6 +28,7 @@ _EMPTY_SHAPES = {
     "sole_yaws": (0, 2),
     "feet_reference": (0, 2, 3),
     "base_rpy": (0, 3),
+    "base_position": (0, 3),
     "estimate_time": (0,),
     "estimated_com": (0, 3),
     "estimated_com_velocity": (0, 3),
@@ -56,6 +57,7 @@ class WalkLog:
         sole_positions: Measured soles [m], (n, 2, 3). sole_yaws: [rad], (n, 2).
         feet_reference: Sole references of the gait [m], (n, 2, 3).
         base_rpy: Base roll, pitch, yaw [rad], (n, 3).
+        base_position: Base (floating joint) position [m], (n, 3).
         estimate_time: Time of the sensor readings the state given to the controller at the
             next tick was estimated from [s], (n,) (``time`` minus the latency).
         estimated_com: Its CoM [m], (n, 3). estimated_com_velocity: [m/s], (n, 3).
@@ -86,6 +88,7 @@ class WalkLog:
     sole_yaws: np.ndarray
     feet_reference: np.ndarray
     base_rpy: np.ndarray
+    base_position: np.ndarray
     estimate_time: np.ndarray
     estimated_com: np.ndarray
     estimated_com_velocity: np.ndarray
@@ -112,6 +115,32 @@ class WalkLog:
 
     def __len__(self) -> int:
         return len(self.time)
+
+    @classmethod
+    def load(cls, path: str | Path) -> "WalkLog":
+        """Read a log written by :meth:`save` as ``.npz`` (a log written before the base
+        position was recorded gets NaN there).
+
+        Raises:
+            ConfigurationError: Not a walk log.
+        """
+        try:
+            with np.load(path) as data:
+                arrays = {name: data[name] for name in data.files}
+        except (OSError, ValueError) as error:
+            raise ConfigurationError(f"Cannot read the walk log {path}: {error}.") from None
+        if "base_position" not in arrays and "time" in arrays:
+            arrays["base_position"] = np.full((len(arrays["time"]), 3), np.nan)
+        missing = sorted({f.name for f in fields(cls)} - set(arrays))
+        if missing:
+            raise ConfigurationError(
+                f"{path} is not a walk log of this version of mpcwalk: no {', '.join(missing)}."
+            )
+        arrays["joint_names"] = tuple(str(name) for name in arrays["joint_names"])
+        for value in arrays.values():
+            if isinstance(value, np.ndarray):
+                value.setflags(write=False)
+        return cls(**{f.name: arrays[f.name] for f in fields(cls)})
 
     def save(self, path: str | Path) -> Path:
         """Write the log as ``.npz`` (every field) or ``.csv`` (the scalar and planar series,
@@ -210,6 +239,7 @@ class WalkLogRecorder:
         rows["sole_yaws"].append(m.sole_yaws)
         rows["feet_reference"].append((output.feet.left.position, output.feet.right.position))
         rows["base_rpy"].append((m.roll, m.pitch, m.yaw))
+        rows["base_position"].append(m.base_position)
         rows["estimate_time"].append(estimate.time)
         rows["estimated_com"].append(estimate.com)
         rows["estimated_com_velocity"].append(estimate.com_velocity)

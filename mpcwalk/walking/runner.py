@@ -17,8 +17,10 @@ double-support ratio, swing height, leg limits, MPC horizon); arguments override
 """
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
+
+import numpy as np
 
 from mpcwalk.control.controller import WalkingController
 from mpcwalk.estimation.estimator import Estimator
@@ -85,6 +87,7 @@ def run_walk(
     ground_tilt: float = 0.0,
     ground_tilt_direction: float = 0.0,
     ground_roughness: float = 0.0,
+    observer: Callable[[float, np.ndarray], None] | None = None,
 ) -> WalkResult:
     """Simulate a walk of a robot in MuJoCo and measure it.
 
@@ -139,6 +142,8 @@ def run_walk(
         ground_tilt: Slope of the ground [deg], up towards ``ground_tilt_direction`` [deg]
             (0: forward); ``ground_roughness``: its bumps' largest height [m]
             (:class:`~mpcwalk.robot.ground.Ground`).
+        observer: Called after every tick with the time [s] and MuJoCo's ``qpos`` (a live
+            view, :class:`~mpcwalk.viewer.live.LiveView`).
 
     Returns:
         The walk, its log, metrics and configuration. A fall ends the run early (``result.fall``).
@@ -252,7 +257,7 @@ def run_walk(
     )
     detector = fall_detector or FallDetector.for_robot(robot)
     outcome = ControlLoop(robot, walker, simulation, estimator, detector, sensor_faults).run(
-        video=video, progress=progress, label=f"{robot.name} {generator}"
+        video=video, progress=progress, label=f"{robot.name} {generator}", observer=observer
     )
     log, fall = outcome.log, outcome.fall
     if walker.heading_hold is None:  # with the footsteps a footstep-adaptive generator moved

@@ -49,7 +49,7 @@ def _command(args):
     return None  # the planner's default: 0.1 m/s, or the legs' reach at slow steps
 
 
-def run_walk_command(args) -> int:
+def run_walk_command(args, *, observer=None) -> int:
     """Run ``mpcwalk walk``; bad input raises an MpcwalkError (exit code 2 in ``main``)
     before anything is created."""
     from mpcwalk.sim import parse_push
@@ -88,6 +88,7 @@ def run_walk_command(args) -> int:
             controller_options=by_hand.get("controller_options"),
             arm_swing=by_hand.get("arm_swing"),
             yaw_reference=bool(pushes),
+            observer=observer,
             **world,
         )
     except MpcwalkError:

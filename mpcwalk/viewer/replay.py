@@ -1,0 +1,82 @@
+"""``mpcwalk replay DIR``: open a walk's output folder (``metrics.json`` and
+``walk_log.npz`` of ``mpcwalk walk``) in the browser viewer."""
+
+import json
+import time
+from pathlib import Path
+
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.footsteps.footstep import FootGeometry, StepTiming
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.robot import load_robot
+from mpcwalk.viewer.walk_viewer import WalkViewer
+from mpcwalk.walking.footstep_planning import plan_walk_footsteps
+from mpcwalk.walking.log import WalkLog
+
+
+def open_walk(folder: str | Path, *, port: int = 8080, host: str = "127.0.0.1") -> WalkViewer:
+    """The viewer of the walk written in ``folder``: its robot, its log, and its plan made
+    again from the configuration in ``metrics.json`` (the footsteps as planned, before any
+    adaptation; the landed soles are the log's).
+
+    Raises:
+        ConfigurationError: Not the output folder of a walk.
+    """
+    folder = Path(folder)
+    metrics_file, log_file = folder / "metrics.json", folder / "walk_log.npz"
+    for path in (metrics_file, log_file):
+        if not path.is_file():
+            raise ConfigurationError(
+                f"{folder} is not the output folder of a walk: no {path.name} (run mpcwalk "
+                "walk ... --out DIR, then mpcwalk replay DIR)."
+            )
+    try:
+        config = json.loads(metrics_file.read_text())["config"]
+    except (ValueError, KeyError) as error:
+        raise ConfigurationError(f"{metrics_file} is not a walk's metrics: {error}.") from None
+    robot = load_robot(config["robot"])
+    timing = StepTiming(
+        step_duration=config["step_duration_s"],
+        double_support_ratio=config["double_support_ratio"],
+    )
+    command = config.get("command")
+    plan = plan_walk_footsteps(
+        robot,
+        command=None if command is None else (command["vx"], command["vy"], command["vyaw"]),
+        path=config.get("path"),
+        nb_steps=config.get("nb_steps")
+        or max(1, round((config.get("duration_s") or 1.0) / timing.step_duration)),
+        timing=timing,
+    )
+    schedule = ContactSchedule(plan, FootGeometry(*robot.sole_size))
+    pushes = [(p[0], p[1], p[2:5]) for p in config.get("pushes", [])]
+    return WalkViewer(robot, WalkLog.load(log_file), schedule, pushes=pushes, port=port, host=host)
+
+
+def run_replay_command(args) -> int:
+    """Serve the viewer of ``args.folder`` until interrupted."""
+    viewer = open_walk(args.folder, port=args.port, host=args.host)
+    print(
+        f"the walk of {args.folder} on http://{args.host}:{viewer.server.get_port()} "
+        "(Ctrl+C to stop)"
+    )
+    try:
+        while True:
+            time.sleep(1.0)
+    except KeyboardInterrupt:
+        viewer.close()
+    return 0
+
+
+def add_replay_parser(sub) -> None:
+    """Add ``mpcwalk replay``."""
+    p = sub.add_parser(
+        "replay",
+        help="open a walk's output folder in the browser (3D viewer)",
+        description="Open the output folder of mpcwalk walk in a 3D viewer in the browser: "
+        "the robot, planned and landed footsteps, CoM, ZMP reference and measured CoP, the "
+        "support polygon, pushes, a time slider with play and speed.",
+    )
+    p.add_argument("folder", type=Path, help="output folder of mpcwalk walk (--out)")
+    p.add_argument("--port", type=int, default=8080, help="port of the viewer (default 8080)")
+    p.add_argument("--host", default="127.0.0.1", help="host to serve on (default 127.0.0.1)")
