@@ -72,4 +72,14 @@ def test_the_site_builds_strictly(tmp_path):
     )
     assert result.returncode == 0, result.stderr[-3000:]
     assert (tmp_path / "site" / "reference" / "metrics" / "index.html").exists()
+    for notebook in (ROOT / "notebooks").glob("*.ipynb"):  # rendered, not executed
+        assert (tmp_path / "site" / "notebooks" / notebook.stem / "index.html").exists()
     assert "WARNING" not in result.stderr
+
+
+def test_the_notebooks_find_the_committed_results_from_any_folder(tmp_path):
+    from mpcwalk.experiments.results_folder import find_results
+
+    found = find_results("solvers", start=tmp_path)
+    assert found is not None and found == ROOT / "results" / "solvers"
+    assert find_results("no-such-results", start=tmp_path) is None

@@ -34,6 +34,7 @@ from mpcwalk.robot.package_data import ROBOT_DATA, package_data_dir
 from mpcwalk.robot.preset import RobotPreset
 from mpcwalk.robot.robot import Robot, ServoGains
 from mpcwalk.robot.scene import IMU_SITE, SOLE_FRAMES, add_scene, add_urdf_robot_parts, urdf_spec
+from mpcwalk.robot.urdf_repair import repair_inertias
 
 ROBOTS_DIR = package_data_dir(ROBOT_DATA)
 """Folder of the robot descriptions written by this project and of their presets."""
@@ -145,11 +146,16 @@ def _build_robot(preset: RobotPreset, path: Path, *, visual: bool) -> Robot:
         spec = mujoco.MjSpec.from_file(str(path))
         foot_frames = preset.foot_frames
     elif preset.format == "urdf":
-        model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
+        text, repaired = repair_inertias(path.read_text())
+        model = (
+            pin.buildModelFromXML(text, pin.JointModelFreeFlyer())
+            if repaired
+            else pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
+        )
         root = _example_robot_data_dir()
         if root is None:
             raise RobotNotFound(preset.name, robot_names(), "example-robot-data is not installed")
-        spec = urdf_spec(path, root, visual)
+        spec = urdf_spec(path, root, visual, text)
         add_urdf_robot_parts(spec, model, preset)
         foot_frames = SOLE_FRAMES
     else:

@@ -34,9 +34,14 @@ _URDF_COMPILER = (
 )
 
 
-def urdf_spec(path: Path, robots_root: Path, visual: bool) -> mujoco.MjSpec:
-    """MuJoCo spec of a URDF file, meshes found in example-robot-data, no collisions."""
-    text = path.read_text().replace(_ERD_PACKAGE_URI, robots_root.as_posix() + "/")
+def urdf_spec(
+    path: Path, robots_root: Path, visual: bool, text: str | None = None
+) -> mujoco.MjSpec:
+    """MuJoCo spec of a URDF file (or of its ``text``, repaired), meshes found in
+    example-robot-data, no collisions."""
+    text = (path.read_text() if text is None else text).replace(
+        _ERD_PACKAGE_URI, robots_root.as_posix() + "/"
+    )
     text = re.sub(r"(<robot\b[^>]*>)", lambda match: match.group(1) + _URDF_COMPILER, text, count=1)
     spec = mujoco.MjSpec.from_string(text)
     meshes = {mesh.name: mesh for mesh in spec.meshes}
