@@ -64,16 +64,16 @@ class RobotScene:
             rgba = model.geom_rgba[g]
             color = np.asarray(255 * rgba[:3], dtype=int) if rgba[3] > 0 else np.array(_BODY)
             handle: Any
-            kind = model.geom_type[g]
-            if kind == mujoco.mjtGeom.mjGEOM_BOX:
+            kind = int(model.geom_type[g])  # (numpy ints do not compare with the enum)
+            if kind == int(mujoco.mjtGeom.mjGEOM_BOX):
                 handle = scene.add_box(name, color=color, dimensions=2.0 * size)
-            elif kind == mujoco.mjtGeom.mjGEOM_SPHERE:
+            elif kind == int(mujoco.mjtGeom.mjGEOM_SPHERE):
                 handle = scene.add_icosphere(name, radius=float(size[0]), color=color)
-            elif kind in (mujoco.mjtGeom.mjGEOM_CAPSULE, mujoco.mjtGeom.mjGEOM_CYLINDER):
-                capsule = kind == mujoco.mjtGeom.mjGEOM_CAPSULE
+            elif kind in (int(mujoco.mjtGeom.mjGEOM_CAPSULE), int(mujoco.mjtGeom.mjGEOM_CYLINDER)):
+                capsule = kind == int(mujoco.mjtGeom.mjGEOM_CAPSULE)
                 height = 2.0 * float(size[1]) + (2.0 * float(size[0]) if capsule else 0.0)
                 handle = scene.add_cylinder(name, radius=float(size[0]), height=height, color=color)
-            elif kind == mujoco.mjtGeom.mjGEOM_MESH:
+            elif kind == int(mujoco.mjtGeom.mjGEOM_MESH):
                 mesh = model.geom_dataid[g]
                 first, count = model.mesh_vertadr[mesh], model.mesh_vertnum[mesh]
                 faces = model.mesh_face[
@@ -128,6 +128,7 @@ class WalkViewer:
         self.handles: dict[str, Any] = {}
         self.robot_scene = RobotScene(robot, self.server)
         self.handles.update(self.robot_scene.handles)
+        self._frame_the_walk()
         self._add_footsteps()
         self._add_traces()
         self._add_gui()
@@ -135,6 +136,18 @@ class WalkViewer:
         self.show(self.time)
 
     # ------------------------------------------------------------------ scene
+    def _frame_the_walk(self) -> None:
+        """A ground grid, and the camera looking at the walk from its side, far enough to
+        see the robot's height and the footsteps."""
+        plan = self.schedule.plan
+        steps = np.array([foot.xy for foot in (plan.initial_left, plan.initial_right, *plan.steps)])
+        centre = np.append(0.5 * (steps.min(axis=0) + steps.max(axis=0)), 0.0)
+        size = max(float(np.ptp(steps, axis=0).max()), 2.5 * self.robot.com_height)
+        self.server.scene.add_grid("/ground", width=4 * size, height=4 * size, cell_size=0.1)
+        camera = self.server.initial_camera
+        camera.look_at = tuple(centre + np.array([0.0, 0.0, 0.5 * self.robot.com_height]))
+        camera.position = tuple(centre + np.array([0.3, -1.2, 0.6]) * size)
+
     def _add(self, name: str, handle: Any) -> None:
         self.handles[name] = handle
 
