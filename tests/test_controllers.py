@@ -4,6 +4,7 @@ reachability and the heading held over long walks."""
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 from conftest import get_robot
 
@@ -166,3 +167,26 @@ def test_long_turning_walk_holds_the_commanded_yaw():
     assert m.yaw_change_planned_deg == pytest.approx(commanded, rel=0.01)
     assert abs(m.yaw_change_deg - m.yaw_change_planned_deg) < 0.01 * m.yaw_change_planned_deg
     assert m.foot_step_error_cm_max < 1.0
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("direction", ["0,-7.0,0", "-7.0,0,0"])  # 0.7 N s right, back
+def test_pushes_mpc_steps_falls_under_are_survived_with_the_step_timing_adapted(direction):
+    """0.7 N s to the right or backwards at 3.0 s of a 0.1 m/s walk on bioloid-like (in
+    single support of a right step): mpc-steps falls; mpc-timing (the same, its landing
+    brought forward when the capture point would leave the leg's reach) walks on, and its
+    swing foot's reference does not jump when the schedule's clock does."""
+    from mpcwalk.walking.runner import run_walk
+
+    push = parse_push(f"3.0,0.1,{direction}")
+    runs = {
+        name: run_walk(
+            "bioloid-like", controller=name, command=(0.1, 0.0, 0.0), duration=6.0, pushes=[push]
+        )
+        for name in ("mpc-steps", "mpc-timing")
+    }
+    assert runs["mpc-steps"].metrics.outcome == "fell"
+    timed = runs["mpc-timing"]
+    assert timed.metrics.outcome == "walked" and timed.metrics.fallback_ticks == 0
+    jumps = np.abs(np.diff(timed.log.feet_reference, axis=0)).max()
+    assert jumps < 0.02  # [m] per 10 ms tick

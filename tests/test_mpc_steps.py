@@ -473,3 +473,22 @@ def test_every_plan_is_capturable_within_the_horizon(kick):
     assert sum("not capturable" in s for s in statuses) == gen.nb_not_capturable
     if kick == (0.0, 0.0):
         assert gen.nb_not_capturable == 0
+
+
+def test_timing_adaptation_brings_the_landing_forward_under_a_forward_push():
+    """A forward kick of 0.4 m/s in single support: with the step timing fixed the QP has no
+    plan (its landing cannot reach the capture point in time); with the adaptation the
+    swing foot lands earlier (the schedule's clock jumps ahead once) and the walk goes on.
+    Unpushed, the adaptation never triggers and the walk is the same."""
+    _, error = pushed_walk(generator(), np.array((0.4, 0.0)), straight())
+    assert error is not None
+    gen = generator(timing_adaptation=True)
+    outs, error = pushed_walk(gen, np.array((0.4, 0.0)), straight())
+    assert error is None and gen.nb_retimed == 1
+    assert 0.1 < gen.time_offset < 0.25  # [s] measured 0.18 of the 0.2 s left of the swing
+    assert outs[-1].time > outs[-2].time  # the clock goes on from there
+    calm = generator(timing_adaptation=True)
+    plain, _ = pushed_walk(calm, np.zeros(2), straight())
+    reference, _ = pushed_walk(generator(), np.zeros(2), straight())
+    assert calm.nb_retimed == 0
+    np.testing.assert_array_equal([o.com for o in plain], [o.com for o in reference])

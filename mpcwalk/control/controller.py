@@ -262,11 +262,12 @@ class WalkingController:
         the swing foot lands on its footsteps, from where it is now (no jump), and the DCM
         feedback uses its polygons."""
         if schedule is not self.schedule:
-            last = self.last_output
-            swing = None
+            last, swing, now = self.last_output, None, None
             if last is not None and last.feet.swing_side is not None:
                 swing = (last.time, last.feet.swing_side)
-            self.reference.follow(schedule, swing)
+                if self.time - last.time > 1.5 * self.control_period:  # the clock jumped
+                    now = self.time
+            self.reference.follow(schedule, swing, now)
             self.dcm_feedback.set_schedule(schedule)
 
     # ------------------------------------------------------------------ protocol

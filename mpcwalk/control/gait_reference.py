@@ -85,15 +85,22 @@ class GaitReference:
         """Back to the initial schedule, for a new walk."""
         self.follow(self.initial_schedule, None)
 
-    def follow(self, schedule: ContactSchedule, swing: tuple[float, Side] | None) -> None:
+    def follow(
+        self,
+        schedule: ContactSchedule,
+        swing: tuple[float, Side] | None,
+        now: float | None = None,
+    ) -> None:
         """Follow ``schedule`` from now on; the foot of ``swing`` = (time [s], side), in the
-        air at that time, goes on from its pose there (no jump) to its new landing."""
+        air at that time, goes on from its pose there (no jump) to its new landing, from
+        ``now`` [s] on the schedule's clock (default: that time; later when the clock jumped
+        ahead, a landing brought forward)."""
         previous = self.trajectory
         self.schedule = schedule
         self.trajectory = SwingFootTrajectory(schedule, previous.step_height, previous.profile)
         if swing is not None:
             t, side = swing
-            self.trajectory.restart_swing(t, previous.foot_poses(t)[side])
+            self.trajectory.restart_swing(t if now is None else now, previous.foot_poses(t)[side])
 
     def targets(self, t: float, com_xy: np.ndarray) -> GaitTargets:
         """Feet and torso-yaw targets at ``t`` [s], with the CoM ``com_xy`` [m]."""

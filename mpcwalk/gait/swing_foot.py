@@ -143,8 +143,8 @@ class SwingFootTrajectory:
         self.phi_b = schedule.t_b / schedule.step_duration
         self.phi_e = schedule.t_e / schedule.step_duration
         self.torso_yaws = self._torso_waypoint_yaws()
-        # step index -> (h, horizontal position (2,), yaw) the swing restarts from
-        self._restarts: dict[int, tuple[float, np.ndarray, float]] = {}
+        # step index -> (h, horizontal position (2,), yaw, height offset) the swing restarts
+        self._restarts: dict[int, tuple[float, np.ndarray, float, float]] = {}
         self._static_states: dict[int, tuple[Footstep, FootState]] = {}
 
     def restart_swing(self, t: float, foot: FootState) -> None:
@@ -152,8 +152,10 @@ class SwingFootTrajectory:
         this schedule's landing: the landing moved during the swing (footstep-adaptive
         generator), and the horizontal position and yaw must not jump. From ``t`` on, they
         cover what is left of the way with the rest of the interpolant h, rescaled
-        ``(h - h(t)) / (1 - h(t))``; the height profile is unchanged. No effect outside a
-        single support."""
+        ``(h - h(t)) / (1 - h(t))``; the height follows the profile, offset by the foot's
+        height above it at ``t`` fading out by touch-down (none when only the landing
+        moved; the schedule's clock jumping ahead, a landing brought forward, needs it). No
+        effect outside a single support."""
         t = self._check_time(t)
         k, h, _ = self._interpolants(t)
         if (
@@ -162,7 +164,11 @@ class SwingFootTrajectory:
             or h >= 1.0 - 1e-9
         ):
             return
-        self._restarts[k] = (h, np.array(foot.position[:2], dtype=float), float(foot.yaw))
+        landing = self.schedule.plan.steps[k]
+        lift = self.schedule.stance(t)[landing.side]
+        profile = self._swing_state(t, lift, landing, h, 0.0).position[2]
+        height = float(foot.position[2]) - float(profile)
+        self._restarts[k] = (h, np.array(foot.position[:2], dtype=float), float(foot.yaw), height)
 
     def _torso_waypoint_yaws(self) -> np.ndarray:
         """Torso yaw ``psi[k]`` at the start of each step (and after the last),
@@ -268,8 +274,10 @@ class SwingFootTrajectory:
         h0: float,
         origin: np.ndarray,
         yaw0: float,
+        height: float = 0.0,
     ) -> FootState:
-        """``state`` with its horizontal motion restarted at ``h0`` from ``origin``/``yaw0``."""
+        """``state`` with its horizontal motion restarted at ``h0`` from ``origin``/``yaw0``,
+        its height offset by ``height`` [m] fading out with the rest of the way."""
         scale = 1.0 / (1.0 - h0)
         r, dr = max(h - h0, 0.0) * scale, dh * scale
         delta = landing.position[:2] - origin
@@ -278,6 +286,9 @@ class SwingFootTrajectory:
         velocity = np.array(state.linear_velocity)
         position[:2] = origin + r * delta
         velocity[:2] = dr * delta
+        if height:
+            position[2] += height * (1.0 - r)
+            velocity[2] -= height * dr
         return FootState(
             frozen_array(position),
             yaw0 + r * delta_yaw,

@@ -83,6 +83,13 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         dcm_deadband: DCM errors up to this norm [m] are ignored by the capture-point term
             (undisturbed walking on the small humanoid: 4.3 mm at most; a 0.3 N s push:
             about 23 mm).
+        timing_adaptation: Bring the swing foot's landing forward when the capture point
+            predicted at the planned landing lies beyond the leg's reach (Khadiv 2016,
+            Griffin 2017): the landing time within ``[swing start + min_swing, planned]``
+            that leaves the capture point nearest the reachable region is taken, by
+            moving the schedule's clock ahead (:attr:`time_offset`; every later phase comes
+            that much earlier); the swing foot goes on from where it is.
+        min_swing: Shortest swing [s] a landing brought forward keeps.
 
     Raises:
         InfeasibleStep: (at :meth:`reset`) a planned step outside the rectangle.
@@ -124,8 +131,19 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         max_fallback_ticks: int = 10,
         dcm_step_gain: float = 1.0,
         dcm_deadband: float = 0.005,
+        timing_adaptation: bool = False,
+        min_swing: float = 0.15,
         **overrides,
     ) -> None:
+        if not isinstance(timing_adaptation, bool):
+            raise ConfigurationError(
+                f"timing_adaptation must be True or False, got {timing_adaptation!r}."
+            )
+        if not (np.isfinite(min_swing) and min_swing > 0.0):
+            raise ConfigurationError(
+                f"min_swing must be a positive duration [s], got {min_swing!r}."
+            )
+        self.timing_adaptation, self.min_swing = timing_adaptation, float(min_swing)
         if not (np.isfinite(dcm_step_gain) and dcm_step_gain >= 0.0):
             raise ConfigurationError(
                 f"dcm_step_gain must be a non-negative number, got {dcm_step_gain!r}; 1 "
@@ -177,10 +195,13 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         self.qp: FootstepQP | None = None
         self.nb_publications = 0
         """Schedules published since the last reset."""
+        self.nb_retimed = 0
+        """Landings brought forward since the last reset."""
         self.nb_not_capturable = 0
         """Ticks since the last reset where no plan met the capturability constraint (the
         plan without it was used)."""
         self._slots: FootstepSlots | None = None
+        self._retimed_steps: set[int] = set()
 
     @classmethod
     def robot_options(cls, *, gait: GaitDefaults, leg_limits: LegLimits) -> dict[str, Any]:
@@ -200,7 +221,8 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         if self.qp is None or self.qp.nf != nf:
             self.qp = FootstepQP(self.lipm, p, nf)
         self._restart(initial_state)
-        self.nb_publications = self.nb_not_capturable = 0
+        self.nb_publications = self.nb_not_capturable = self.nb_retimed = 0
+        self._retimed_steps = set()
         return self._output(0.0, self._state)
 
     # ------------------------------------------------------------------ tick
@@ -209,6 +231,16 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         if qp is None or slots is None:  # pragma: no cover - step() checks reset()
             raise NotReset("FootstepMpcGenerator stepped before reset().")
         x0 = self._start_state(measured)
+        published = None
+        if self.timing_adaptation and self.schedule is not None:
+            k = self.schedule.step_index(t)
+            advance = self._landing_advance(t, x0, k) if 0 <= k < slots.nb_steps else 0.0
+            if advance > 0.0:  # the clock jumps: this landing and every later phase come earlier
+                self.time_offset += advance
+                self.nb_retimed += 1
+                published = slots.current = slots.current.with_steps(slots.current.plan.steps)
+                self.schedule = published
+                t = self.time
         times = qp.sample_times_at(t)
         steps_k, variable = slots.free_steps(t, times[-1], self.freeze_before_landing)
         supports = slots.supports(qp.constraint_times(t), variable, qp.nf)
@@ -229,21 +261,53 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
             else float(np.searchsorted(self._plan.prediction.times, times[0] - _BOUNDARY_EPS))
         )
         info = self._solve(qp, x0, shift)
-        published = None
         result = self.last_result
         if info.success and len(steps_k) and result is not None and result.x is not None:
             footsteps = qp.footsteps(result.x)[: len(steps_k)]
-            published = slots.publish(steps_k, footsteps, self.publish_tolerance)
-            if published is not None:
-                self.schedule = published
+            moved = slots.publish(steps_k, footsteps, self.publish_tolerance)
+            if moved is not None:
+                published = self.schedule = moved
                 self.nb_publications += 1
         return self._output(
-            t + self.control_period,
+            self.time + self.control_period,
             self._state,
             horizon=self._horizon(),
             solve=info,
             schedule=published,
         )
+
+    def _landing_advance(self, t: float, x0: np.ndarray, k: int) -> float:
+        """How much earlier [s] step ``k`` should land (once per step): 0 unless the capture
+        point at its planned landing (the ZMP held at the stance sole's point nearest the
+        DCM, the ankle's best) lies beyond the reach of step ``k``; then the landing time in
+        ``[swing start + min_swing, planned]`` leaving it nearest the reachable region (the
+        latest among equals)."""
+        slots, schedule = self._slots, self.schedule
+        if slots is None or schedule is None or k in self._retimed_steps:
+            return 0.0
+        landing = float(slots.landing[k])
+        swing_start = landing - (schedule.t_e - schedule.t_b)
+        earliest = max(t + self.control_period, swing_start + self.min_swing)
+        if t < swing_start or earliest >= landing - 1e-9:
+            return 0.0
+        omega = self.lipm.omega
+        stance = slots.positions[slots.support[k]]
+        yaw = float(slots.yaws[slots.support[k]])
+        rotation = np.array([[np.cos(yaw), np.sin(yaw)], [-np.sin(yaw), np.cos(yaw)]])
+        lower, upper = (np.asarray(bound)[:2] for bound in slots.bounds[k])
+        half_sole = 0.5 * np.array([schedule.foot.length, schedule.foot.width])
+        dcm = rotation @ (x0[0] + x0[1] / omega + self.dcm_error - stance)  # stance frame
+        zmp = np.clip(dcm, -half_sole, half_sole)
+        times = np.linspace(earliest, landing, 9)
+        local = zmp + (dcm - zmp) * np.exp(omega * (times - t))[:, None]  # capture points
+        beyond = np.linalg.norm(local - np.clip(local, lower, upper), axis=1)
+        if beyond[-1] <= half_sole[1]:  # within reach (give or take the sole)
+            return 0.0
+        best = int(np.flatnonzero(beyond <= beyond.min() + 1e-6)[-1])
+        if best == len(times) - 1:
+            return 0.0
+        self._retimed_steps.add(k)
+        return float(landing - times[best])
 
     def _checked_solve(self, qp, shift: float) -> QPResult:
         """The core's checked solve; when the capturability rows make it fail, the plan

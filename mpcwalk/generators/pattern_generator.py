@@ -164,13 +164,16 @@ class PatternGenerator(ABC):
         self.control_period = float(control_period)
         self.schedule: ContactSchedule | None = None
         self.tick = 0
+        self.time_offset = 0.0
+        """Schedule time gained by landings brought forward (step-timing adaptation), [s]."""
         self._dcm_error = np.zeros(2)
         self._last_output: GeneratorOutput | None = None
 
     @property
     def time(self) -> float:
-        """Time of the last output, in [s]."""
-        return self.tick * self.control_period
+        """Time of the last output on the schedule's clock, in [s] (the ticks' time, ahead by
+        :attr:`time_offset` when a generator brought landings forward)."""
+        return self.tick * self.control_period + self.time_offset
 
     @property
     def current_schedule(self) -> ContactSchedule:
@@ -207,6 +210,7 @@ class PatternGenerator(ABC):
             initial_state = ComState(schedule.torso_waypoints[0], np.zeros(2), np.zeros(2))
         self.schedule = schedule
         self.tick = 0
+        self.time_offset = 0.0
         self._dcm_error = np.zeros(2)
         self._last_output = self._reset(schedule, initial_state)
         return self._last_output

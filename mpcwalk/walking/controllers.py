@@ -117,6 +117,14 @@ CONTROLLERS: dict[str, ControllerConfig] = {
             feedback=True,
         ),
         ControllerConfig(
+            "mpc-timing",
+            "mpc-steps with step-timing adaptation (a landing brought forward when the "
+            "capture point would leave the leg's reach) and the capturability constraint",
+            "mpc-steps",
+            feedback=True,
+            generator_options={"timing_adaptation": True, "capturability": True},
+        ),
+        ControllerConfig(
             "static-qp",
             "quasi-static QP (CoM over the support polygon), closed loop, re-aiming, 12 s",
             "static-qp",
