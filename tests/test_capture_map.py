@@ -36,3 +36,76 @@ def test_a_push_towards_the_stance_leg_is_held_by_the_ankle_alone(cells):
     cell = next(c for c in cells if c.phase == 0.25 and c.direction_deg == 90.0)
     assert cell.single_support
     assert cell.fixed[2] == pytest.approx(cell.fixed[0])
+
+
+def test_in_double_support_the_robot_stands_on_both_soles():
+    """Stepping in place, just after the right foot lands: the support is the hull of both
+    soles, so a push to the left is held without a step up to the left sole's outer edge:
+    ``m omega (edge - dcm_y)``, with the DCM of the nominal walk (an analytic check of the
+    0-step bound; the hull of one sole only gave 0.18 N s)."""
+    import numpy as np
+
+    from mpcwalk.footsteps.footstep import FootGeometry, StepTiming
+    from mpcwalk.gait.contact_schedule import ContactSchedule
+    from mpcwalk.generators import make_generator, rollout
+    from mpcwalk.models.lipm import LIPM
+    from mpcwalk.walking.footstep_planning import plan_walk_footsteps
+
+    robot = get_robot("bioloid-like")
+    (cell,) = [
+        c
+        for c in capture_map(robot, nb_directions=4, nb_phases=6, speed_share=0.0)
+        if c.direction_deg == 90.0 and c.phase == pytest.approx(11 / 12, abs=1e-4)
+    ]
+    assert not cell.single_support
+    gait = robot.gait
+    timing = StepTiming(gait.step_duration, gait.double_support_ratio)
+    plan = plan_walk_footsteps(robot, command=(0.0, 0.0, 0.0), nb_steps=6, timing=timing)
+    schedule = ContactSchedule(plan, FootGeometry(*robot.sole_size))
+    lipm = LIPM(com_height=robot.com_height)
+    walk = rollout(make_generator("mpc", lipm=lipm), schedule)
+    t = schedule.walk_start + (2 + 11 / 12) * timing.step_duration
+    i = min(int(np.searchsorted(walk.times, t)), len(walk.times) - 1)
+    dcm_y = walk.com[i, 1] + walk.com_velocity[i, 1] / lipm.omega
+    left = plan.stance(3)[plan.steps[3].side]  # the left foot, about to lift
+    edge = left.xy[1] + 0.5 * robot.sole_size[1]
+    expected = robot.total_mass * lipm.omega * (edge - dcm_y)
+    assert cell.fixed[0] == pytest.approx(expected, rel=1e-6)
+    assert cell.fixed[0] > 1.0  # [N s]
+
+
+def test_towards_the_stance_leg_even_fast_steps_add_nothing_to_the_ankle():
+    """Standing on the left foot with the DCM of the nominal walk's early single support
+    (1 cm inside the sole), a push to the left: the swing (right) leg may not cross, and the
+    left leg's own step after it comes too late even when both swings last 0.15 s. The
+    bound is the ankle's, ``m omega (outer edge - dcm)``, with 0, 1 or 2 steps."""
+    import numpy as np
+
+    from mpcwalk.footsteps.capturability import capture_regions, largest_impulse, sole_box
+    from mpcwalk.footsteps.footstep import Side
+    from mpcwalk.models.lipm import LIPM
+
+    robot = get_robot("bioloid-like")
+    omega = LIPM(com_height=robot.com_height).omega
+    dcm = np.array([0.0, -0.01])  # stance frame
+    regions = capture_regions(
+        2,
+        omega=omega,
+        sole=sole_box(*robot.sole_size),
+        reach=robot.leg_limits.rectangle(),
+        first_swing=Side.RIGHT,
+        first_step_time=0.15,
+        step_time=0.15,
+    )
+    ankle = robot.total_mass * omega * (0.5 * robot.sole_size[1] - dcm[1])
+    for n in range(3):
+        impulse = largest_impulse(
+            regions[: n + 1], dcm, np.pi / 2, mass=robot.total_mass, omega=omega
+        )
+        assert impulse == pytest.approx(ankle, rel=1e-9)
+    # the same push to the right is where the swing leg's step helps
+    right = [
+        largest_impulse(regions[: n + 1], dcm, -np.pi / 2, mass=robot.total_mass, omega=omega)
+        for n in range(3)
+    ]
+    assert right[1] > right[0] + 0.1

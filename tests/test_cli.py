@@ -102,6 +102,7 @@ def test_tick_benchmark_reduced_run():
         "mpc daqp",
         "mpc-steps daqp",
         "mpc-steps quadprog",
+        "mpc-timing quadprog",
         "qpmpc daqp (peer)",
     } <= set(labels)
     for r in results:

@@ -190,3 +190,42 @@ def test_pushes_mpc_steps_falls_under_are_survived_with_the_step_timing_adapted(
     assert timed.metrics.outcome == "walked" and timed.metrics.fallback_ticks == 0
     jumps = np.abs(np.diff(timed.log.feet_reference, axis=0)).max()
     assert jumps < 0.02  # [m] per 10 ms tick
+
+
+@pytest.mark.slow
+def test_a_lateral_push_towards_the_stance_leg_is_walked_through():
+    """The issue's push: 0.35 N s to the left at 3.0 s of a 0.1 m/s walk on bioloid-like,
+    as the right leg lifts (the left one stands: the swing leg may not cross). paper-m's
+    engine falls; the footstep-adaptive MPCs, with and without step timing, walk on (they
+    fell when the push map was first drawn). Beyond about 0.4 N s all fall: the LIPM's
+    bound there is the ankle's, 0.49 N s, with or without steps (results/capture_map)."""
+    from mpcwalk.walking.runner import run_walk
+
+    push = parse_push("3.0,0.1,0,3.5,0")
+    outcomes = {
+        name: run_walk(
+            "bioloid-like", controller=name, command=(0.1, 0.0, 0.0), duration=6.0, pushes=[push]
+        ).metrics.outcome
+        for name in ("paper-m", "mpc-steps", "mpc-timing")
+    }
+    assert outcomes == {"paper-m": "fell", "mpc-steps": "walked", "mpc-timing": "walked"}
+
+
+@pytest.mark.slow
+def test_a_push_towards_the_foot_about_to_lift_is_held_in_double_support():
+    """0.8 N s to the left from 2.458 s of a 5-step walk at 0.1 m/s on bioloid-like (the
+    push map's cell 90 deg, phase 0.92: the right foot has just landed, the left one lifts
+    at 2.55 s). mpc and mpc-steps lift it on time and fall; mpc-timing puts the lift-off
+    off while the DCM error points to that foot (both feet down, the ZMP on its sole) and
+    walks on."""
+    from mpcwalk.sim import ExternalForce
+    from mpcwalk.walking.runner import run_walk
+
+    push = ExternalForce(1.0 + 2.9167 * 0.5, 0.1, np.array([0.0, 8.0, 0.0]))
+    fell = {
+        name: run_walk(
+            "bioloid-like", controller=name, command=(0.1, 0.0, 0.0), nb_steps=5, pushes=[push]
+        ).fall.fell
+        for name in ("mpc", "mpc-steps", "mpc-timing")
+    }
+    assert fell == {"mpc": True, "mpc-steps": True, "mpc-timing": False}

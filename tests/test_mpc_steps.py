@@ -492,3 +492,33 @@ def test_timing_adaptation_brings_the_landing_forward_under_a_forward_push():
     reference, _ = pushed_walk(generator(), np.zeros(2), straight())
     assert calm.nb_retimed == 0
     np.testing.assert_array_equal([o.com for o in plain], [o.com for o in reference])
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_a_lift_off_is_put_off_while_the_dcm_error_points_to_the_lifting_foot(sign):
+    """At the end of a double support, a DCM error of 2 cm towards the foot about to lift:
+    the schedule's clock stops (both feet stay down, the ZMP may use that sole) for
+    ``max_hold`` at most, then goes on. Towards the other foot nothing is put off."""
+    schedule = straight()
+    gen = generator(timing_adaptation=True, max_hold=0.2)
+    gen.reset(schedule)
+    k, plan = 3, schedule.plan
+    lift_off = schedule.walk_start + k * schedule.step_duration + schedule.t_b
+    feet = plan.stance(k)
+    toward = feet[plan.steps[k].side].xy - feet[plan.steps[k].side.other].xy
+    error = sign * 0.02 * toward / np.linalg.norm(toward)
+    times = []
+    while gen.time < lift_off + 0.5:
+        near = lift_off - 0.1 < gen.time < lift_off + 0.3
+        times.append(gen.step(dcm_error=error if near else None).time)
+    steps = np.diff(times)
+    if sign > 0:
+        assert gen.nb_held == 20  # 0.2 s of 10 ms ticks, the clock still
+        assert np.count_nonzero(steps < 1e-9) == 20
+        held = {round(times[i], 9) for i in np.flatnonzero(steps < 1e-9)}
+        (stopped,) = held  # one time, the last one before the lift-off
+        assert lift_off - gen.control_period - 1e-9 <= stopped < lift_off
+        assert gen.time_offset == pytest.approx(-0.2)
+    else:
+        assert gen.nb_held == 0 and gen.time_offset == 0.0
+    assert steps.min() > -1e-9  # never backwards

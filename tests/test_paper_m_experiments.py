@@ -128,6 +128,14 @@ def test_bisection_censored_and_zero():
     assert never.largest_survived == 0.0 and never.smallest_fallen <= 0.05
     with pytest.raises(ConfigurationError, match="0 < initial <= upper_limit"):
         find_largest_survived(lambda v: True, initial=5.0, upper_limit=3.0, tolerance=0.01)
+    # a limit that 9 decimals do not hold (3 x 0.4283786954394798 N s: a cell of the push
+    # map) ends once it survived, censored there (it tried the rounded limit forever)
+    limit = 3 * 0.4283786954394798
+    odd = find_largest_survived(
+        lambda v: True, initial=limit / 6, upper_limit=limit, tolerance=0.02
+    )
+    assert odd.censored and odd.largest_survived == pytest.approx(limit)
+    assert len(odd.trials) == 4
 
 
 def test_push_timing_and_force():

@@ -8,6 +8,7 @@ the same run.
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -60,7 +61,7 @@ class TickCase:
 def _cases(solvers: Sequence[str] | None, include_peer: bool):
     from qpsolvers import available_solvers
 
-    cases = [
+    cases: list[tuple[str, str, str, dict[str, Any]]] = [
         ("analytic", "analytic", "", {}),
         ("static (slow timing)", "static", "", {}),
         ("preview", "preview", "", {}),
@@ -75,6 +76,9 @@ def _cases(solvers: Sequence[str] | None, include_peer: bool):
     for name in ("quadprog", "daqp"):  # footstep-adaptive MPC: dense QP through qpsolvers
         if name in available_solvers:
             cases.append((f"mpc-steps {name}", "mpc-steps", name, {"solver": name}))
+    if "quadprog" in available_solvers:  # the same with step timing and capturability
+        timing = {"solver": "quadprog", "timing_adaptation": True, "capturability": True}
+        cases.append(("mpc-timing quadprog", "mpc-steps", "quadprog", timing))
     cases.append(
         (
             "static-qp osqp-direct (slow timing)",

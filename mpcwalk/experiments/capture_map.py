@@ -48,14 +48,20 @@ def capture_map(
     speed_share: float = 1.0,
     push_step: int = 2,
     nb_steps: int = 6,
+    delay: float = 0.0,
 ) -> list[CaptureCell]:
     """The map of ``robot`` (a :class:`~mpcwalk.robot.Robot`) walking straight at
-    ``speed_share`` of its nominal speed (half its forward reach per step)."""
+    ``speed_share`` of its nominal speed (the forward speed of a walk given no command,
+    :meth:`~mpcwalk.footsteps.velocity_planner.VelocityPlanner.default_command`, as in the
+    controllers' push map). ``delay`` [s]: the impulse acts that long after the phase's
+    time (a push of duration ``2 delay`` starting at the phase acts, in the mean, at its
+    middle; the cell keeps its phase, ``single_support`` says where the impulse acts)."""
     gait, limits = robot.gait, robot.leg_limits
     timing = StepTiming(gait.step_duration, gait.double_support_ratio)
+    from mpcwalk.footsteps.velocity_planner import VelocityPlanner
     from mpcwalk.walking.footstep_planning import plan_walk_footsteps
 
-    speed = speed_share * 0.5 * limits.max_step_forward / timing.step_duration
+    speed = speed_share * VelocityPlanner(limits, timing).default_command().vx
     plan = plan_walk_footsteps(robot, command=(speed, 0.0, 0.0), nb_steps=nb_steps, timing=timing)
     schedule = ContactSchedule(plan, FootGeometry(*robot.sole_size))
     lipm = LIPM(com_height=robot.com_height)
@@ -66,22 +72,24 @@ def capture_map(
     cells = []
     for j in range(nb_phases):
         share = (j + 0.5) / nb_phases
-        t = schedule.walk_start + (push_step + share) * T
+        t = schedule.walk_start + (push_step + share) * T + delay
         i = min(int(np.searchsorted(walk.times, t)), len(walk.times) - 1)
         dcm_world = walk.com[i] + walk.com_velocity[i] / omega
-        step = plan.steps[push_step]
-        single = t_b <= share * T < t_e
+        step_k, local = divmod(t - schedule.walk_start, T)  # the step the impulse acts in
+        step_k = int(step_k)
+        step = plan.steps[step_k]
+        single = t_b <= local < t_e
         if single:  # on the support foot, the swing leg steps first
-            stance = plan.support_foot(push_step)
+            stance = plan.support_foot(step_k)
             first_swing, support = step.side, sole
-            remaining = t_e - share * T
-            earliest = min(max(MIN_SWING - (share * T - t_b), 0.02), remaining)
+            remaining = t_e - local
+            earliest = min(max(MIN_SWING - (local - t_b), 0.02), remaining)
         else:  # in double support: the hull of both feet, the next step from the rear foot
-            k = push_step if share * T < t_b else push_step + 1
-            nxt = plan.steps[min(k, plan.nb_steps - 1)]
-            stance = plan.support_foot(min(k, plan.nb_steps - 1))
-            other = plan.steps[k - 1] if k >= 1 else plan.initial_left
-            offset = other.xy - stance.xy if other.side != stance.side else np.zeros(2)
+            k = step_k if local < t_b else step_k + 1
+            k = min(k, plan.nb_steps - 1)
+            nxt, feet = plan.steps[k], plan.stance(k)  # the feet on the ground before step k
+            stance, other = feet[nxt.side.other], feet[nxt.side]
+            offset = other.xy - stance.xy
             support = Box(
                 min(sole.x_low, sole.x_low + offset[0]),
                 max(sole.x_high, sole.x_high + offset[0]),
@@ -89,9 +97,9 @@ def capture_map(
                 max(sole.y_high, sole.y_high + offset[1]),
             )
             first_swing = nxt.side
-            start = t_b if share * T < t_b else T + t_b
-            remaining = start + (t_e - t_b) - share * T
-            earliest = max(start - share * T, 0.0) + MIN_SWING
+            start = t_b if local < t_b else T + t_b
+            remaining = start + (t_e - t_b) - local
+            earliest = max(start - local, 0.0) + MIN_SWING
         dcm = dcm_world - stance.xy  # straight walking: the stance frame is the world's
         landings = np.linspace(min(earliest, remaining), remaining, 8)
         options = []

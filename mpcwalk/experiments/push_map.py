@@ -7,8 +7,8 @@ around the robot, 0 deg forward, 90 deg left) at one phase of the pushed step (o
 robot's nominal speed; 0: stepping in place). Its runner (:func:`run_push_case`) brackets and
 bisects the impulse of a 0.1 s torso push (:func:`~mpcwalk.experiments.push_sweep.
 find_largest_survived`), in units of the LIPM's no-step capture bound in that direction, and
-returns the largest impulse survived. :func:`write_push_report` writes the table of ratios
-and the heat maps.
+returns the largest impulse survived. :mod:`mpcwalk.experiments.push_report` writes the
+report: the ratios to ``paper-m`` and the shares of the LIPM's capture bounds.
 """
 
 import json
@@ -21,7 +21,6 @@ import numpy as np
 
 from mpcwalk.experiments.push_sweep import capture_impulse_bound, find_largest_survived
 from mpcwalk.sweep import Sweep, worker_robot
-from mpcwalk.walking.markdown import table
 
 REFERENCE = "paper-m"
 
@@ -42,10 +41,10 @@ class PushMapConfig:
     """The grid and the bisection (impulses as shares of the no-step capture bound)."""
 
     robot: str = "bioloid-like"
-    controllers: tuple[str, ...] = (REFERENCE, "preview", "mpc", "mpc-steps")
+    controllers: tuple[str, ...] = (REFERENCE, "mpc", "mpc-steps", "mpc-timing")
     nb_directions: int = 16
     nb_phases: int = 6
-    speed_shares: tuple[float, ...] = (0.0, 0.5, 1.0)
+    speed_shares: tuple[float, ...] = (0.0, 1.0)
     nb_steps: int = 5
     push_step: int = 2
     push_duration: float = 0.1
@@ -101,7 +100,7 @@ def push_map_cases(config: PushMapConfig) -> tuple[PushCase, ...]:
             config,
             controller,
             round(360.0 * i / config.nb_directions, 4),
-            j / config.nb_phases,
+            round((j + 0.5) / config.nb_phases, 4),
             speed,
         )
         for controller in config.controllers
@@ -146,7 +145,9 @@ def run_push_case(case: PushCase) -> dict[str, Any]:
             pushes=[ExternalForce(start, config.push_duration, np.asarray(force, dtype=float))],
             seed=config.seed,
         )
-        return not result.fall.fell
+        # survived: walked to the end (a fall, or a controller that stopped the walk on
+        # its faults, did not)
+        return result.metrics.outcome == "walked"
 
     found = find_largest_survived(
         survives,
@@ -178,20 +179,20 @@ def push_map_sweep(config: PushMapConfig) -> Sweep:
     )
 
 
-def ratios(rows: list[dict]) -> dict[str, list[tuple[tuple, float | None]]]:
-    """Per controller, ``(cell, ratio to paper-m)`` of every cell (None: paper-m survived
-    nothing there, or a row has an error)."""
-    cell = lambda r: (r["direction_deg"], r["phase"], r["speed_share"])
-    reference = {cell(r): r["largest_survived_Ns"] for r in rows if r["controller"] == REFERENCE}
-    out: dict[str, list[tuple[tuple, float | None]]] = {}
-    for row in rows:
-        ref, value = reference.get(cell(row)), row.get("largest_survived_Ns")
-        ratio = value / ref if ref and value is not None and not row.get("error") else None
-        out.setdefault(row["controller"], []).append((cell(row), ratio))
-    return out
+Cell = tuple[float, float, float]  # direction [deg], phase, speed share
 
 
-def _median(values: list[float]) -> float | None:
+def cell_of(row: dict) -> Cell:
+    """The cell of a row (or of a capture cell with its speed), rounded as both grids are."""
+    return (
+        round(float(row["direction_deg"]), 3),
+        round(float(row["phase"]), 4),
+        float(row["speed_share"]),
+    )
+
+
+def median(values: list[float]) -> float | None:
+    """The median of ``values`` (None when empty)."""
     values = sorted(values)
     if not values:
         return None
@@ -199,102 +200,91 @@ def _median(values: list[float]) -> float | None:
     return values[middle] if len(values) % 2 else 0.5 * (values[middle - 1] + values[middle])
 
 
-def summary_table(rows: list[dict]) -> str:
-    """Per controller: median impulse, median ratio to paper-m, cells at or above it."""
-    lines = []
-    for controller, pairs in ratios(rows).items():
-        mine = [r for r in rows if r["controller"] == controller and not r.get("error")]
-        values = [v for _, v in pairs if v is not None]
-        lines.append(
-            {
-                "controller": controller,
-                "cells": len(pairs),
-                "impulse": _median([r["largest_survived_Ns"] for r in mine]),
-                "share": _median([r["largest_share"] for r in mine]),
-                "ratio": _median(values),
-                "above": f"{sum(v >= 1.0 for v in values)}/{len(values)}",
-                "censored": sum(bool(r["censored"]) for r in mine),
-                "walks": sum(int(r["nb_walks"]) for r in mine),
-                "errors": sum(bool(r.get("error")) for r in rows if r["controller"] == controller),
-            }
-        )
-    return table(
-        lines,
-        [
-            ("controller", "controller", 0),
-            ("cells", "cells", 0),
-            ("impulse", "largest impulse survived, median [N s]", 3),
-            ("share", "of the no-step capture bound, median", 2),
-            ("ratio", f"ratio to {REFERENCE} per cell, median", 2),
-            ("above", f"cells at or above {REFERENCE}", 0),
-            ("censored", "cells censored at the largest push", 0),
-            ("walks", "walks", 0),
-            ("errors", "errors", 0),
-        ],
-    )
+def impulses(rows: list[dict]) -> dict[str, dict[Cell, float]]:
+    """Per controller, the largest impulse survived [N s] of every cell without error."""
+    out: dict[str, dict[Cell, float]] = {}
+    for row in rows:
+        value = row.get("largest_survived_Ns")
+        if not row.get("error") and value is not None:
+            out.setdefault(row["controller"], {})[cell_of(row)] = float(value)
+    return out
 
 
-def write_push_report(out_dir: str | Path, rows, config: PushMapConfig, runs: str) -> Path:
-    """Write ``report.md`` and ``push_ratio_*.png`` (ratio to paper-m per direction and
-    phase, one per controller and speed) into ``out_dir``; returns the report's path."""
-    import matplotlib.pyplot as plt
-    import numpy as np
+def ratios(rows: list[dict]) -> dict[str, list[tuple[Cell, float | None]]]:
+    """Per controller, ``(cell, ratio to paper-m)`` of every cell (None: paper-m survived
+    nothing there, or a row has an error)."""
+    reference = impulses(rows).get(REFERENCE, {})
+    out: dict[str, list[tuple[Cell, float | None]]] = {}
+    for row in rows:
+        ref, value = reference.get(cell_of(row)), row.get("largest_survived_Ns")
+        ratio = value / ref if ref and value is not None and not row.get("error") else None
+        out.setdefault(row["controller"], []).append((cell_of(row), ratio))
+    return out
 
-    out = Path(out_dir)
-    rows = list(rows)
-    names = []
-    directions = sorted({r["direction_deg"] for r in rows})
-    phases = sorted({r["phase"] for r in rows})
-    for controller, pairs in ratios(rows).items():
-        if controller == REFERENCE:
-            continue
-        for speed in config.speed_shares:
-            grid = np.full((len(phases), len(directions)), np.nan)
-            for (direction, phase, share), value in pairs:
-                if share == speed and value is not None:
-                    grid[phases.index(phase), directions.index(direction)] = value
-            fig, ax = plt.subplots(figsize=(1.2 + 0.5 * len(directions), 1.0 + 0.4 * len(phases)))
-            image = ax.imshow(np.log2(grid), cmap="RdBu", vmin=-2, vmax=2, aspect="auto")
-            for (i, j), value in np.ndenumerate(grid):
-                if np.isfinite(value):
-                    ax.text(j, i, f"{value:.1f}", ha="center", va="center", fontsize=6)
-            ax.set_xticks(range(len(directions)), [f"{d:g}" for d in directions], fontsize=7)
-            ax.set_yticks(range(len(phases)), [f"{p:.2f}" for p in phases], fontsize=7)
-            ax.set_xlabel("push direction [deg] (0: forward, 90: left)")
-            ax.set_ylabel("phase [share of the step]")
-            ax.set_title(f"{controller} / {REFERENCE}, speed x{speed:g}", fontsize=9)
-            fig.colorbar(image, ax=ax, fraction=0.03, label="log2 ratio")
-            fig.tight_layout()
-            name = f"push_ratio_{controller}_speed{speed:g}.png"
-            fig.savefig(out / name, dpi=100)
-            plt.close(fig)
-            names.append(name)
-    text = [
-        f"# Push map: {config.robot}\n",
-        runs,
-        f"Grid: {config.nb_directions} directions, {config.nb_phases} phases per step, speeds "
-        f"{', '.join(f'x{s:g}' for s in config.speed_shares)} of the robot's nominal speed; "
-        f"a {config.push_duration:g} s push on the torso in step {config.push_step} of "
-        f"{config.nb_steps}; per cell, the largest impulse survived by bracketing and "
-        f"bisection (from {config.initial_share:g} up to {config.max_share:g} times the "
-        "LIPM's no-step capture bound in that direction). Settings: "
-        f"`{json.dumps(config.settings())}`.\n",
-        summary_table(rows),
-        "\n".join(f"![{n}]({n})" for n in names) + "\n",
-    ]
-    path = out / "report.md"
-    path.write_text("\n".join(text))
-    return path
+
+#: Settings two push maps must share to be joined in one report.
+_GRID = ("robot", "nb_directions", "nb_phases", "speed_shares", "nb_steps", "push_step")
+
+
+def joined_push_rows(config: PushMapConfig, folders) -> list[dict]:
+    """The rows of the finished push maps in ``folders`` (other controllers run apart, on
+    the grid of ``config``), to join to its report.
+
+    Raises:
+        ConfigurationError: A folder without a finished push map, on another robot or
+            grid, or with a controller ``config`` runs too.
+    """
+    from mpcwalk.exceptions import ConfigurationError
+    from mpcwalk.sweep import read_rows
+
+    mine, rows = dict(config.settings()), []
+    for folder in map(Path, folders):
+        manifest, table = folder / "sweep.json", folder / "results.csv"
+        if not (manifest.exists() and table.exists()):
+            raise ConfigurationError(
+                f"--with {folder}: expected the folder of a push map (sweep.json and "
+                "results.csv), found none; give the --out folder of `mpcwalk sweep push`."
+            )
+        settings = json.loads(manifest.read_text()).get("settings", {})
+        differs = [k for k in _GRID if _jsonable(settings.get(k)) != _jsonable(mine[k])]
+        if differs:
+            raise ConfigurationError(
+                f"--with {folder}: expected a push map on the same robot and grid, but "
+                + ", ".join(f"{k} is {settings.get(k)!r} there, {mine[k]!r} here" for k in differs)
+                + "; run both with the same --robot, --directions, --phases and --speeds."
+            )
+        theirs = read_rows(table)
+        expected = len(json.loads(manifest.read_text()).get("cases", []))
+        if len(theirs) < expected:
+            raise ConfigurationError(
+                f"--with {folder}: expected a finished push map ({expected} cells), found "
+                f"{len(theirs)}; run its command again to finish it."
+            )
+        twice = {r["controller"] for r in theirs} & set(config.controllers)
+        if twice:
+            raise ConfigurationError(
+                f"--with {folder}: expected other controllers, but {', '.join(sorted(twice))} "
+                "run here too; leave them out of --controllers or of the joined folder."
+            )
+        rows.extend(theirs)
+    return rows
+
+
+def _jsonable(value: Any) -> Any:
+    return json.loads(json.dumps(value))
 
 
 __all__ = [
     "PUSH_COLUMNS",
+    "Cell",
     "PushCase",
     "PushMapConfig",
+    "cell_of",
+    "impulses",
+    "joined_push_rows",
+    "median",
     "push_map_cases",
     "push_map_sweep",
     "ratios",
     "run_push_case",
-    "summary_table",
-    "write_push_report",
 ]

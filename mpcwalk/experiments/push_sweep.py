@@ -150,6 +150,8 @@ def find_largest_survived(
         lo = value
         while lo < upper_limit:
             value = round(min(2.0 * lo, upper_limit), 9)
+            if value <= lo:  # the limit, rounded, was tried: nothing is left above
+                break
             if not trial(value):
                 hi = value
                 break

@@ -90,14 +90,23 @@ def add_sweep_parser(sub) -> None:
     push.add_argument(
         "--controllers",
         nargs="+",
-        default=["paper-m", "preview", "mpc", "mpc-steps"],
+        default=["paper-m", "mpc", "mpc-steps", "mpc-timing"],
         help="named controllers (paper-m is added: the ratios are taken against it)",
+    )
+    push.add_argument(
+        "--with",
+        dest="joined",
+        type=Path,
+        nargs="+",
+        default=[],
+        metavar="DIR",
+        help="push maps of other controllers on the same robot and grid, joined to the report",
     )
     push.add_argument("--directions", type=int, default=16, help="push directions")
     push.add_argument("--phases", type=int, default=6, help="push phases per step")
     push.add_argument(
         "--speeds",
-        default="0,0.5,1",
+        default="0,1",
         help="forward speeds, as shares of the robot's nominal speed (comma-separated)",
     )
     push.set_defaults(sweep_func=_run_push)
@@ -140,17 +149,23 @@ def record_run(out: Path, run, *, address: str | None) -> list[dict]:
     return runs
 
 
-def runs_text(runs: list[dict], nb_cases: int) -> str:
-    """The runs that filled the table, in words."""
+def read_runs(out: Path) -> list[dict]:
+    """The runs recorded in ``out``'s ``runs.json`` (none when it has none)."""
+    path = Path(out) / RUNS_FILE
+    return json.loads(path.read_text()) if path.exists() else []
+
+
+def runs_text(runs: list[dict], nb_cases: int, noun: str = "walks") -> str:
+    """The runs that filled the table, in words (``noun``: what a case is)."""
     wall = sum(r["wall_time_s"] for r in runs)
     lines = [
-        f"- `{r['command']}` ({r['date']}): {r['cases_run']} walks in "
+        f"- `{r['command']}` ({r['date']}): {r['cases_run']} {noun} in "
         f"{r['wall_time_s'] / 60:.1f} min, {r['workers']} at once, {r['where']} "
         f"({r['machine']})"
         for r in runs
     ]
     return (
-        f"{nb_cases} walks, {wall / 60:.1f} min of wall time in all:\n\n" + "\n".join(lines) + "\n"
+        f"{nb_cases} {noun}, {wall / 60:.1f} min of wall time in all:\n\n" + "\n".join(lines) + "\n"
     )
 
 
@@ -231,10 +246,15 @@ def _matrix_header(config, runs: list[dict], nb_cases: int) -> str:
 
 
 def _run_push(args) -> int:
-    from mpcwalk.experiments.push_map import PushMapConfig, push_map_sweep, write_push_report
+    from mpcwalk.exceptions import ConfigurationError
+    from mpcwalk.experiments.push_map import PushMapConfig, joined_push_rows, push_map_sweep
+    from mpcwalk.experiments.push_report import write_push_report
     from mpcwalk.sweep import run_sweep
 
-    controllers = list(dict.fromkeys(["paper-m", *args.controllers]))
+    # paper-m is added, unless a joined map holds it (a controller run apart)
+    controllers = list(
+        dict.fromkeys(args.controllers if args.joined else ["paper-m", *args.controllers])
+    )
     speeds = tuple(float(v) for v in str(args.speeds).split(","))
     config = PushMapConfig(
         robot=args.robot,
@@ -245,6 +265,12 @@ def _run_push(args) -> int:
     )
     if args.quick:
         config = config.quick()
+    joined = joined_push_rows(config, args.joined)  # checked before anything runs
+    if "paper-m" not in {*config.controllers, *(r["controller"] for r in joined)}:
+        raise ConfigurationError(
+            "--with: expected paper-m in this map or a joined one (the ratios are taken "
+            "against it), found neither; add it to --controllers."
+        )
     run = run_sweep(
         push_map_sweep(config),
         args.out,
@@ -258,7 +284,11 @@ def _run_push(args) -> int:
     if not run.complete:
         print(f"{len(run.rows)}/{run.nb_cases} cases done: run the same command to go on")
         return 0
-    path = write_push_report(args.out, run.rows, config, runs_text(runs, run.nb_cases))
+    for folder in args.joined:
+        runs = runs + read_runs(folder)
+    rows = [*run.rows, *joined]
+    text = runs_text(runs, len(rows), "cells (a bisection of walks each)")
+    path = write_push_report(args.out, rows, config, text)
     print(f"wrote {path}")
     return 0
 
@@ -299,4 +329,11 @@ def _run_scaling(args) -> int:
     return 0
 
 
-__all__ = ["RUNS_FILE", "add_sweep_parser", "record_run", "run_sweep_command", "runs_text"]
+__all__ = [
+    "RUNS_FILE",
+    "add_sweep_parser",
+    "read_runs",
+    "record_run",
+    "run_sweep_command",
+    "runs_text",
+]

@@ -90,6 +90,14 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
             moving the schedule's clock ahead (:attr:`time_offset`; every later phase comes
             that much earlier); the swing foot goes on from where it is.
         min_swing: Shortest swing [s] a landing brought forward keeps.
+        max_hold: With ``timing_adaptation``, the longest [s] a lift-off may be put off: at
+            the end of a double support, while the DCM error (the controller's) points
+            towards the foot about to lift by more than ``hold_dcm_error`` [m], the
+            schedule's clock stops (:attr:`time_offset` goes back one period per tick), so
+            the robot keeps both feet down and the ZMP can use the lifting foot's sole (a
+            push towards that foot; Khadiv 2016's step duration, longer as well as
+            shorter). 0 leaves it out.
+        hold_dcm_error: See ``max_hold``.
 
     Raises:
         InfeasibleStep: (at :meth:`reset`) a planned step outside the rectangle.
@@ -133,6 +141,8 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         dcm_deadband: float = 0.005,
         timing_adaptation: bool = False,
         min_swing: float = 0.15,
+        max_hold: float = 0.5,
+        hold_dcm_error: float = 0.01,
         **overrides,
     ) -> None:
         if not isinstance(timing_adaptation, bool):
@@ -144,6 +154,10 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
                 f"min_swing must be a positive duration [s], got {min_swing!r}."
             )
         self.timing_adaptation, self.min_swing = timing_adaptation, float(min_swing)
+        for label, value in (("max_hold", max_hold), ("hold_dcm_error", hold_dcm_error)):
+            if not (np.isfinite(value) and value >= 0.0):
+                raise ConfigurationError(f"{label} must be a non-negative number, got {value!r}.")
+        self.max_hold, self.hold_dcm_error = float(max_hold), float(hold_dcm_error)
         if not (np.isfinite(dcm_step_gain) and dcm_step_gain >= 0.0):
             raise ConfigurationError(
                 f"dcm_step_gain must be a non-negative number, got {dcm_step_gain!r}; 1 "
@@ -200,8 +214,11 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         self.nb_not_capturable = 0
         """Ticks since the last reset where no plan met the capturability constraint (the
         plan without it was used)."""
+        self.nb_held = 0
+        """Ticks since the last reset where a lift-off was put off (``max_hold``)."""
         self._slots: FootstepSlots | None = None
         self._retimed_steps: set[int] = set()
+        self._held: tuple[int, float] = (-1, 0.0)  # step whose lift-off is put off, how long
 
     @classmethod
     def robot_options(cls, *, gait: GaitDefaults, leg_limits: LegLimits) -> dict[str, Any]:
@@ -221,8 +238,8 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         if self.qp is None or self.qp.nf != nf:
             self.qp = FootstepQP(self.lipm, p, nf)
         self._restart(initial_state)
-        self.nb_publications = self.nb_not_capturable = self.nb_retimed = 0
-        self._retimed_steps = set()
+        self.nb_publications = self.nb_not_capturable = self.nb_retimed = self.nb_held = 0
+        self._retimed_steps, self._held = set(), (-1, 0.0)
         return self._output(0.0, self._state)
 
     # ------------------------------------------------------------------ tick
@@ -233,6 +250,9 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         x0 = self._start_state(measured)
         published = None
         if self.timing_adaptation and self.schedule is not None:
+            if self._hold_lift_off(t):  # the clock stops: both feet stay down
+                self.time_offset -= self.control_period
+                t = self.time
             k = self.schedule.step_index(t)
             advance = self._landing_advance(t, x0, k) if 0 <= k < slots.nb_steps else 0.0
             if advance > 0.0:  # the clock jumps: this landing and every later phase come earlier
@@ -275,6 +295,30 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
             solve=info,
             schedule=published,
         )
+
+    def _hold_lift_off(self, t: float) -> bool:
+        """Whether this tick's output (at ``t + control_period``) would be the first past a
+        lift-off that should be put off: the DCM error points towards the lifting foot by
+        more than ``hold_dcm_error``, and that lift-off has been put off less than
+        ``max_hold`` so far."""
+        slots, schedule, dt = self._slots, self.schedule, self.control_period
+        if not self.max_hold or slots is None or schedule is None:
+            return False
+        t_out = t + dt
+        k = schedule.step_index(t_out)
+        if not 0 <= k < slots.nb_steps:
+            return False
+        lift_off = float(slots.landing[k]) - (schedule.t_e - schedule.t_b)
+        if not t_out - dt < lift_off <= t_out + 1e-9:
+            return False
+        toward = slots.positions[slots.lift[k]] - slots.positions[slots.support[k]]
+        toward = toward / max(float(np.linalg.norm(toward)), 1e-9)
+        step, held = self._held if self._held[0] == k else (k, 0.0)
+        if float(self.dcm_error @ toward) <= self.hold_dcm_error or held >= self.max_hold - 1e-9:
+            return False
+        self._held = (step, held + dt)
+        self.nb_held += 1
+        return True
 
     def _landing_advance(self, t: float, x0: np.ndarray, k: int) -> float:
         """How much earlier [s] step ``k`` should land (once per step): 0 unless the capture

@@ -119,7 +119,8 @@ CONTROLLERS: dict[str, ControllerConfig] = {
         ControllerConfig(
             "mpc-timing",
             "mpc-steps with step-timing adaptation (a landing brought forward when the "
-            "capture point would leave the leg's reach) and the capturability constraint",
+            "capture point would leave the leg's reach, a lift-off put off while the DCM error "
+            "points to the lifting foot) and the capturability constraint",
             "mpc-steps",
             feedback=True,
             generator_options={"timing_adaptation": True, "capturability": True},

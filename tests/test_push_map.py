@@ -1,0 +1,151 @@
+"""The controllers' push map: its grid against the LIPM's, its report and its goals, joined
+maps, and the command on a one-cell grid."""
+
+import json
+import math
+
+import pytest
+from conftest import get_robot
+
+from mpcwalk.cli import main as cli_main
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.experiments.capture_map import capture_map
+from mpcwalk.experiments.push_map import PushMapConfig, joined_push_rows, push_map_cases
+from mpcwalk.experiments.push_report import (
+    best_controller,
+    double_support_text,
+    goals_text,
+    lipm_bounds,
+    summary_table,
+)
+
+GRID = PushMapConfig(
+    controllers=("paper-m", "mpc", "fast"), nb_directions=4, nb_phases=6, speed_shares=(1.0,)
+)
+
+
+@pytest.fixture(scope="module")
+def bounds():
+    return lipm_bounds(get_robot("bioloid-like"), GRID)
+
+
+def _rows(values: dict[str, dict]) -> list[dict]:
+    return [
+        {
+            "controller": controller,
+            "direction_deg": cell[0],
+            "phase": cell[1],
+            "speed_share": cell[2],
+            "largest_survived_Ns": value,
+            "capture_bound_Ns": 0.5,
+            "censored": False,
+            "nb_walks": 5,
+        }
+        for controller, cells in values.items()
+        for cell, value in cells.items()
+    ]
+
+
+def test_the_push_map_pushes_where_the_lipm_map_is_drawn():
+    """Same directions and phases (the middle of each sixth of the step) as the LIPM's map,
+    so that every cell has its bounds."""
+    cases = push_map_cases(GRID)
+    cells = capture_map(get_robot("bioloid-like"), nb_directions=4, nb_phases=6)
+    assert {(c.direction_deg, c.phase) for c in cases} == {
+        (c.direction_deg, c.phase) for c in cells
+    }
+    assert len(cases) == 3 * 4 * 6
+    assert sorted({c.phase for c in cases})[0] == pytest.approx(1 / 12, abs=1e-4)
+
+
+def test_report_ratios_shares_and_goals_on_known_values(bounds):
+    """paper-m at 40 % of the 1-step bound everywhere, mpc at 90 %, "fast" at 100 % but
+    one cell at 50 %: the best is "fast", its median is 2.5x paper-m's, one cell is under
+    80 % of the bound, and paper-m beats it nowhere."""
+    cells = [c for c, b in bounds.items() if b.fixed[1] > 0]
+    weak = cells[0]
+    values = {
+        "paper-m": {c: 0.4 * bounds[c].fixed[1] for c in cells},
+        "mpc": {c: 0.9 * bounds[c].fixed[1] for c in cells},
+        "fast": {c: (0.5 if c == weak else 1.0) * bounds[c].fixed[1] for c in cells},
+    }
+    rows = _rows(values)
+    assert best_controller(rows) == "fast"
+    text = summary_table(rows, bounds)
+    line = next(row for row in text.splitlines() if row.startswith("| fast |"))
+    assert "| 2.50 |" in line and "| 1.00 |" in line  # ratio to paper-m, share of the bound
+    assert f"| 1/{len(cells)} |" in line  # the cells under 80 %
+    goals = goals_text(rows, bounds)
+    assert "**2.50x** (goal 2x: met)" in goals
+    assert f"**1/{len(cells)}** (goal: none; not met)" in goals
+    assert f"{weak[0]:g} deg, phase {weak[1]:.2f}" in goals.split("worst cells")[1]
+    assert "where every QP controller does: **0/" in goals
+
+
+def test_double_support_cells_compare_the_adaptive_controllers_with_mpc(bounds):
+    """The LIPM's impulse acts at the middle of the 0.1 s push: a push starting 42 ms into
+    a 0.5 s step (r_ds = 0.2: 50 ms of double support) acts in single support; one starting
+    42 ms before its end acts in the next double support."""
+    double = [c for c, b in bounds.items() if not b.single_support]
+    assert {c[1] for c in double} == {0.9167} and len(double) == 4
+    rows = _rows(
+        {
+            "mpc": dict.fromkeys(double, 0.6),
+            "fast": {c: (0.5 if i == 0 else 0.62) for i, c in enumerate(double)},
+        }
+    )
+    text = double_support_text(rows, bounds, tolerance=0.05)
+    line = next(row for row in text.splitlines() if row.startswith("| fast |"))
+    # 4 cells, median ratio 0.62 / 0.6, one below mpc, by more than 5 % of 0.5 N s
+    assert line.split("|")[2:6] == [" 4 ", f" {0.62 / 0.6:.2f} ", " 1 ", " 1 "]
+
+
+def test_joined_maps_must_share_the_robot_and_the_grid(tmp_path):
+    folder = tmp_path / "other"
+    with pytest.raises(ConfigurationError, match="expected the folder of a push map"):
+        joined_push_rows(GRID, [folder])
+    folder.mkdir()
+    other = PushMapConfig(controllers=("mpc-timing",), nb_directions=8, speed_shares=(1.0,))
+    (folder / "sweep.json").write_text(
+        json.dumps({"settings": other.settings(), "cases": ["a", "b"]})
+    )
+    (folder / "results.csv").write_text("case_id,controller\na,mpc-timing\n")
+    with pytest.raises(ConfigurationError, match="nb_directions is 8 there, 4 here"):
+        joined_push_rows(GRID, [folder])
+    same = PushMapConfig(controllers=("mpc",), nb_directions=4, speed_shares=(1.0,))
+    (folder / "sweep.json").write_text(
+        json.dumps({"settings": same.settings(), "cases": ["a", "b"]})
+    )
+    with pytest.raises(ConfigurationError, match="expected a finished push map"):
+        joined_push_rows(GRID, [folder])
+    (folder / "results.csv").write_text("case_id,controller\na,mpc\nb,mpc\n")
+    with pytest.raises(ConfigurationError, match="mpc run here too"):
+        joined_push_rows(GRID, [folder])
+    mine = PushMapConfig(controllers=("paper-m",), nb_directions=4, speed_shares=(1.0,))
+    assert [r["controller"] for r in joined_push_rows(mine, [folder])] == ["mpc", "mpc"]
+
+
+@pytest.mark.slow
+def test_the_command_runs_a_cell_and_joins_a_controller_run_apart(tmp_path, capsys):
+    """paper-m in one folder, paper-m-open (which falls unpushed) in another joined to it:
+    one report of both, with the LIPM's bounds of the cell."""
+    grid = ["--robot", "bioloid-like", "--directions", "1", "--phases", "1", "--speeds", "1"]
+    engine = ["--workers", "1", "--no-progress"]
+    first, second = tmp_path / "paper-m", tmp_path / "joined"
+    assert (
+        cli_main(["sweep", "push", *grid, "--controllers", "paper-m", "--out", str(first), *engine])
+        == 0
+    )
+    args = ["sweep", "push", *grid, "--controllers", "paper-m-open", "--with", str(first)]
+    assert cli_main([*args, "--out", str(second), *engine]) == 0
+    report = (second / "report.md").read_text()
+    assert "| paper-m |" in report and "| paper-m-open |" in report
+    (bound,) = json.loads((second / "lipm_bounds.json").read_text())
+    assert bound["direction_deg"] == 0.0 and bound["phase"] == 0.5 and bound["single_support"]
+    assert math.isfinite(bound["fixed"][1]) and bound["fixed"][1] > 0.0
+    assert (second / "push_polar_speed1.png").stat().st_size > 1000
+    # a joined folder of another grid is refused before anything runs
+    bad = ["sweep", "push", "--directions", "2", "--controllers", "mpc", "--with", str(first)]
+    assert cli_main([*bad, "--out", str(tmp_path / "bad"), *engine]) == 2
+    assert "expected a push map on the same robot and grid" in capsys.readouterr().err
+    assert not (tmp_path / "bad").exists()
