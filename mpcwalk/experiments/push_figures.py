@@ -89,6 +89,8 @@ def ratio_heatmaps(out: Path, rows: list[dict], config: PushMapConfig) -> list[s
             for (direction, phase, share), value in pairs:
                 if share == speed and value is not None:
                     grid[phases.index(phase), directions.index(direction)] = value
+            if not np.isfinite(grid).any():  # the reference walks nowhere: no ratio
+                continue
             fig, ax = plt.subplots(figsize=(1.2 + 0.5 * len(directions), 1.0 + 0.4 * len(phases)))
             image = ax.imshow(np.log2(grid), cmap="RdBu", vmin=-2, vmax=2, aspect="auto")
             for (i, j), value in np.ndenumerate(grid):
