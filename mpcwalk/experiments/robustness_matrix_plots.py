@@ -13,8 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mpcwalk.experiments.robustness_matrix import FACTORS, LEVEL_UNITS
-from mpcwalk.experiments.robustness_matrix_report import (
+from mpcwalk.experiments.robustness_cells import (
     GOAL_CONTROLLERS,
     GOAL_ROBOTS,
     REFERENCE,
@@ -23,6 +22,7 @@ from mpcwalk.experiments.robustness_matrix_report import (
     robots_and_controllers,
     succeeded,
 )
+from mpcwalk.experiments.robustness_matrix import FACTORS, LEVEL_UNITS
 
 
 def _annotated(ax, grid: np.ndarray, counts: np.ndarray):

@@ -11,72 +11,22 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
+from mpcwalk.experiments.robustness_cells import (
+    GOAL_COMBINATION,
+    GOAL_CONTROLLERS,
+    GOAL_ROBOTS,
+    GOAL_SINGLE,
+    REFERENCE,
+    cell_rows,
+    rate,
+    rate_text,
+    robots_and_controllers,
+    succeeded,
+    wilson,
+)
 from mpcwalk.experiments.robustness_matrix import FACTORS, LEVEL_UNITS
+from mpcwalk.experiments.robustness_matrix_plots import write_figures
 from mpcwalk.walking.markdown import table
-
-#: The QP controllers of the goals, on the robots of the goals.
-GOAL_CONTROLLERS = ("preview", "mpc", "mpc-steps")
-GOAL_ROBOTS = ("bioloid-like", "g1")
-#: Success rates the goals ask for: over the single-factor walks, over the combinations.
-GOAL_SINGLE, GOAL_COMBINATION = 0.95, 0.85
-REFERENCE = "paper-m"
-
-
-def wilson(successes: int, n: int, z: float = 1.96) -> tuple[float, float]:
-    """Wilson score interval of a success rate (95 % by default); (0, 1) when ``n`` is 0."""
-    if n == 0:
-        return 0.0, 1.0
-    p = successes / n
-    denominator = 1.0 + z * z / n
-    centre = (p + z * z / (2 * n)) / denominator
-    half = z * math.sqrt(p * (1.0 - p) / n + z * z / (4 * n * n)) / denominator
-    return max(0.0, centre - half), min(1.0, centre + half)
-
-
-def succeeded(row: dict[str, Any]) -> bool:
-    """The walk ran and did not fall."""
-    return not row.get("error") and row.get("fell") is False
-
-
-def cell_rows(rows: Iterable[dict], robot: str, controller: str, cell: str) -> list[dict]:
-    """The rows of one cell: ``cell`` is a factor (its single-factor walks), ``"nominal"``,
-    ``"single"`` (every single-factor walk) or ``"combination"``."""
-    out = []
-    for row in rows:
-        if row["robot"] != robot or row["controller"] != controller:
-            continue
-        group = row["group"]
-        if cell in ("single", "combination", "nominal"):
-            keep = group == cell
-        else:
-            keep = group == "single" and row["factor"] == cell
-        if keep:
-            out.append(row)
-    return out
-
-
-def rate(rows: Sequence[dict]) -> tuple[int, int]:
-    """(successes, walks)."""
-    return sum(succeeded(row) for row in rows), len(rows)
-
-
-def rate_text(successes: int, n: int) -> str:
-    """``k/n, p % [low, high]``."""
-    if n == 0:
-        return "-"
-    low, high = wilson(successes, n)
-    return f"{successes}/{n}, {100 * successes / n:.0f} % [{100 * low:.0f}, {100 * high:.0f}]"
-
-
-def robots_and_controllers(rows: Sequence[dict]) -> dict[str, list[str]]:
-    """Robot -> its controllers, in the order of the table."""
-    out: dict[str, list[str]] = {}
-    for row in rows:
-        names = out.setdefault(row["robot"], [])
-        if row["controller"] not in names:
-            names.append(row["controller"])
-    return out
-
 
 CELLS = ("nominal", *FACTORS, "single", "combination")
 
@@ -294,8 +244,6 @@ def write_report(
     out = Path(out_dir)
     names: list[str] = []
     if figures:
-        from mpcwalk.experiments.robustness_matrix_plots import write_figures
-
         names = write_figures(out, rows)
     parts = [header, "## Goals of the QP controllers\n", goals_text(goal_checks(rows))]
     by_robot = robots_and_controllers(rows)
