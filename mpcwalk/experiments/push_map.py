@@ -13,6 +13,7 @@ report: the ratios to ``paper-m`` and the shares of the LIPM's capture bounds.
 
 import json
 import math
+import statistics
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -193,21 +194,22 @@ def cell_of(row: dict) -> Cell:
 
 def median(values: list[float]) -> float | None:
     """The median of ``values`` (None when empty)."""
-    values = sorted(values)
-    if not values:
-        return None
-    middle = len(values) // 2
-    return values[middle] if len(values) % 2 else 0.5 * (values[middle - 1] + values[middle])
+    return statistics.median(values) if values else None
+
+
+def by_cell(rows: list[dict], column: str) -> dict[str, dict[Cell, float]]:
+    """Per controller, ``column`` of every cell without error where it has a value."""
+    out: dict[str, dict[Cell, float]] = {}
+    for row in rows:
+        value = row.get(column)
+        if not row.get("error") and value is not None:
+            out.setdefault(row["controller"], {})[cell_of(row)] = float(value)
+    return out
 
 
 def impulses(rows: list[dict]) -> dict[str, dict[Cell, float]]:
     """Per controller, the largest impulse survived [N s] of every cell without error."""
-    out: dict[str, dict[Cell, float]] = {}
-    for row in rows:
-        value = row.get("largest_survived_Ns")
-        if not row.get("error") and value is not None:
-            out.setdefault(row["controller"], {})[cell_of(row)] = float(value)
-    return out
+    return by_cell(rows, "largest_survived_Ns")
 
 
 def ratios(rows: list[dict]) -> dict[str, list[tuple[Cell, float | None]]]:
@@ -279,6 +281,7 @@ __all__ = [
     "Cell",
     "PushCase",
     "PushMapConfig",
+    "by_cell",
     "cell_of",
     "impulses",
     "joined_push_rows",

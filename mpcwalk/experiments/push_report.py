@@ -15,6 +15,7 @@ from mpcwalk.experiments.push_map import (
     REFERENCE,
     Cell,
     PushMapConfig,
+    by_cell,
     cell_of,
     impulses,
     median,
@@ -219,12 +220,7 @@ def goals_text(rows: list[dict], bounds: dict[Cell, Any], *, nb_worst: int = 6) 
 
 def fallen(rows: list[dict]) -> dict[str, dict[Cell, float]]:
     """Per controller, the smallest impulse it fell under [N s] in every cell where it fell."""
-    out: dict[str, dict[Cell, float]] = {}
-    for row in rows:
-        value = row.get("smallest_fallen_Ns")
-        if not row.get("error") and value is not None:
-            out.setdefault(row["controller"], {})[cell_of(row)] = float(value)
-    return out
+    return by_cell(rows, "smallest_fallen_Ns")
 
 
 def clearly_below(rows: list[dict], controller: str, other: str, cells) -> list[Cell]:

@@ -296,6 +296,11 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
             schedule=published,
         )
 
+    def _lift_off(self, k: int) -> float:
+        """When the swing foot of step ``k`` lifts, on the schedule's clock [s]."""
+        assert self._slots is not None and self.schedule is not None  # set by reset()
+        return float(self._slots.landing[k]) - (self.schedule.t_e - self.schedule.t_b)
+
     def _hold_lift_off(self, t: float) -> bool:
         """Whether this tick's output (at ``t + control_period``) would be the first past a
         lift-off that should be put off: the DCM error points towards the lifting foot by
@@ -308,15 +313,14 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         k = schedule.step_index(t_out)
         if not 0 <= k < slots.nb_steps:
             return False
-        lift_off = float(slots.landing[k]) - (schedule.t_e - schedule.t_b)
-        if not t_out - dt < lift_off <= t_out + 1e-9:
+        if not t_out - dt < self._lift_off(k) <= t_out + 1e-9:
             return False
         toward = slots.positions[slots.lift[k]] - slots.positions[slots.support[k]]
         toward = toward / max(float(np.linalg.norm(toward)), 1e-9)
-        step, held = self._held if self._held[0] == k else (k, 0.0)
+        held = self._held[1] if self._held[0] == k else 0.0
         if float(self.dcm_error @ toward) <= self.hold_dcm_error or held >= self.max_hold - 1e-9:
             return False
-        self._held = (step, held + dt)
+        self._held = (k, held + dt)
         self.nb_held += 1
         return True
 
@@ -329,8 +333,7 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         slots, schedule = self._slots, self.schedule
         if slots is None or schedule is None or k in self._retimed_steps:
             return 0.0
-        landing = float(slots.landing[k])
-        swing_start = landing - (schedule.t_e - schedule.t_b)
+        landing, swing_start = float(slots.landing[k]), self._lift_off(k)
         earliest = max(t + self.control_period, swing_start + self.min_swing)
         if t < swing_start or earliest >= landing - 1e-9:
             return 0.0
