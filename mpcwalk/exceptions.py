@@ -61,14 +61,60 @@ class FootstepFileError(MpcwalkError, ValueError):
         super().__init__(f"{where}: {message}")
 
 
-class SolverNotFound(MpcwalkError, ValueError):
+class NotRegistered(MpcwalkError, ValueError):
+    """A name asked of a registry (:class:`mpcwalk.registry.Registry`) is unknown, or known
+    but not installed here.
+
+    Attributes:
+        kind: What the registry holds (``"stabilizer"``).
+        name: The name asked for.
+        available: The names available on this installation.
+        installable: Known names that are not installed -> how to install them.
+        install: How to install ``name`` when it is known but not installed, else "".
+        list_command: The command that lists the registry.
+    """
+
+    def __init__(
+        self,
+        kind: str,
+        name: str,
+        available: Sequence[str],
+        installable: Mapping[str, str] | None = None,
+        *,
+        install: str = "",
+        list_command: str = "",
+    ) -> None:
+        self.kind = kind
+        self.name = name
+        self.available = list(available)
+        self.installable = dict(installable or {})
+        self.install = install
+        self.list_command = list_command
+        names = ", ".join(self.available) or "(none)"
+        if install:
+            message = (
+                f"The {kind} '{name}' is not installed; install it with `{install}`, or "
+                f"choose one of {names}."
+            )
+        else:
+            message = f"Unknown {kind} '{name}'; available: {names}"
+            if self.installable:
+                groups: dict[str, list[str]] = {}  # install command, <name> for the name
+                for known, how in self.installable.items():
+                    groups.setdefault(how.replace(known, "<name>"), []).append(known)
+                hints = ", ".join(f"{', '.join(n)} (`{how}`)" for how, n in groups.items())
+                message += f"; installable: {hints}"
+            message += "."
+        if list_command:
+            message += f" ({list_command} lists them.)"
+        Exception.__init__(self, message)
+
+
+class SolverNotFound(NotRegistered):
     """The requested QP solver is unknown or not installed.
 
     Attributes:
-        solver: The name asked for.
-        available: Solvers available on this installation.
-        installable: Known solvers that are not installed -> how to install them.
-        install: How to install ``solver`` when it is known but not installed, else "".
+        solver: The name asked for (also ``name``).
     """
 
     def __init__(
@@ -80,35 +126,34 @@ class SolverNotFound(MpcwalkError, ValueError):
         install: str = "",
     ) -> None:
         self.solver = solver
-        self.available = list(available)
-        self.installable = dict(installable or {})
-        self.install = install
-        names = ", ".join(self.available) or "(none)"
-        if install:
-            message = (
-                f"Solver '{solver}' is not installed; install it with `{install}`, or choose "
-                f"one of the available solvers: {names}."
-            )
-        else:
-            message = f"Unknown solver '{solver}'; available: {names}"
-            if self.installable:
-                groups: dict[str, list[str]] = {}  # install command, <name> for the name
-                for name, how in self.installable.items():
-                    groups.setdefault(how.replace(name, "<name>"), []).append(name)
-                hints = ", ".join(f"{', '.join(n)} (`{how}`)" for how, n in groups.items())
-                message += f"; installable: {hints}"
-            message += "."
-        super().__init__(message)
+        super().__init__(
+            "solver",
+            solver,
+            available,
+            installable,
+            install=install,
+            list_command="mpcwalk solvers",
+        )
 
 
-class GeneratorNotFound(MpcwalkError, ValueError):
+class GeneratorNotFound(NotRegistered):
     """The requested pattern generator name is unknown."""
 
-    def __init__(self, name: str, available: Sequence[str]) -> None:
-        self.name = name
-        self.available = list(available)
+    def __init__(
+        self,
+        name: str,
+        available: Sequence[str],
+        installable: Mapping[str, str] | None = None,
+        *,
+        install: str = "",
+    ) -> None:
         super().__init__(
-            f"Unknown pattern generator '{name}'; choose one of {', '.join(self.available)}."
+            "pattern generator",
+            name,
+            available,
+            installable,
+            install=install,
+            list_command="mpcwalk generators",
         )
 
 
