@@ -61,6 +61,19 @@ class FootstepFileError(MpcwalkError, ValueError):
         super().__init__(f"{where}: {message}")
 
 
+class SpecFileError(ConfigurationError):
+    """A walk specification file (``spec.toml``) is missing, not TOML, or holds a part,
+    field or value the specification refuses.
+
+    Attributes:
+        path: The file.
+    """
+
+    def __init__(self, message: str, *, path: str = "<spec>") -> None:
+        self.path = path
+        super().__init__(f"{path}: {message}")
+
+
 class NotRegistered(MpcwalkError, ValueError):
     """A name asked of a registry (:class:`mpcwalk.registry.Registry`) is unknown, or known
     but not installed here.

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from mpcwalk.exceptions import ConfigurationError, MpcwalkError
-from mpcwalk.walking.processes import SINGLE_THREAD_ENV, single_thread_environment
+from mpcwalk.sweep.processes import SINGLE_THREAD_ENV, single_thread_environment
 
 ADDRESS_VARIABLE = "RAY_ADDRESS"
 """Environment variable of the cluster's address (Ray's own)."""

@@ -1,8 +1,7 @@
-"""``mpcwalk replay DIR``: open a walk's output folder (``metrics.json`` and
+"""Open a walk's output folder (``metrics.json`` and
 ``walk_log.npz`` of ``mpcwalk walk``) in the browser viewer."""
 
 import json
-import time
 from pathlib import Path
 
 from mpcwalk.exceptions import ConfigurationError
@@ -51,32 +50,3 @@ def open_walk(folder: str | Path, *, port: int = 8080, host: str = "127.0.0.1") 
     schedule = ContactSchedule(plan, FootGeometry(*robot.sole_size))
     pushes = [(p[0], p[1], p[2:5]) for p in config.get("pushes", [])]
     return WalkViewer(robot, WalkLog.load(log_file), schedule, pushes=pushes, port=port, host=host)
-
-
-def run_replay_command(args) -> int:
-    """Serve the viewer of ``args.folder`` until interrupted."""
-    viewer = open_walk(args.folder, port=args.port, host=args.host)
-    print(
-        f"the walk of {args.folder} on http://{args.host}:{viewer.server.get_port()} "
-        "(Ctrl+C to stop)"
-    )
-    try:
-        while True:
-            time.sleep(1.0)
-    except KeyboardInterrupt:
-        viewer.close()
-    return 0
-
-
-def add_replay_parser(sub) -> None:
-    """Add ``mpcwalk replay``."""
-    p = sub.add_parser(
-        "replay",
-        help="open a walk's output folder in the browser (3D viewer)",
-        description="Open the output folder of mpcwalk walk in a 3D viewer in the browser: "
-        "the robot, planned and landed footsteps, CoM, ZMP reference and measured CoP, the "
-        "support polygon, pushes, a time slider with play and speed.",
-    )
-    p.add_argument("folder", type=Path, help="output folder of mpcwalk walk (--out)")
-    p.add_argument("--port", type=int, default=8080, help="port of the viewer (default 8080)")
-    p.add_argument("--host", default="127.0.0.1", help="host to serve on (default 127.0.0.1)")

@@ -142,3 +142,40 @@ def log_mujoco_messages(out: Path) -> None:
             stream.write(f"WARNING: {message}\n")
 
     mujoco.set_mju_user_warning(warn)
+
+
+def write_walk_outputs(result: Any, out: Path, *, log_format: str = "npz") -> list[Path]:
+    """A walk's results in ``out``, each atomically: ``spec.toml`` (the resolved
+    specification), the per-tick log, the figures (and the video, written during the walk),
+    then ``metrics.json`` last. Returns the paths written."""
+    from functools import partial
+
+    from mpcwalk.walking.figures import plot_estimator, plot_walk_over_time, plot_walk_top_view
+    from mpcwalk.walking.spec import SPEC_FILE, spec_to_toml
+
+    out.mkdir(parents=True, exist_ok=True)
+    (out / METRICS_FILE).unlink(missing_ok=True)  # --overwrite: no stale metrics meanwhile
+    spec_text = spec_to_toml(result.spec)
+    written = [write_atomic(out / SPEC_FILE, lambda tmp: tmp.write_text(spec_text, "utf-8"))]
+    log_path = out / f"walk_log.{log_format}"
+    written.append(write_atomic(log_path, lambda tmp: result.log.save(tmp)))
+    plan = result.spec.plan
+    what = str(plan.path) if plan.path is not None else "path"
+    if plan.command is not None:
+        vx, vy, vyaw = plan.command
+        what = f"v = ({vx:g} m/s, {vy:g} m/s, {vyaw:g} rad/s)"
+    title = f"{result.robot}, {result.generator}: {what}, T = {result.config.step_duration_s:g} s"
+    if len(result.log):
+        import matplotlib.pyplot as plt
+
+        plots = [("top_view.png", plot_walk_top_view), ("com_cop.png", plot_walk_over_time)]
+        if result.config.state_source == "estimator":
+            plots.append(("estimator.png", plot_estimator))
+        for name, plot in plots:
+            figure = plot(result.schedule, result.log, title=title)
+            written.append(write_atomic(out / name, partial(figure.savefig, dpi=120)))
+            plt.close(figure)
+    if result.spec.run.video is not None:
+        written.append(Path(result.spec.run.video))
+    written.append(write_json(out / METRICS_FILE, result.to_dict()))
+    return written

@@ -8,6 +8,7 @@ from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.sim import FallStatus
 from mpcwalk.walking.log import WalkLog
 from mpcwalk.walking.metrics import WalkMetrics
+from mpcwalk.walking.spec import WalkSpec
 
 
 @dataclass(frozen=True)
@@ -99,6 +100,9 @@ class WalkResult:
         fall: Verdict of the fall detector at the end (``fall.fell`` True: ended early).
         metrics: What the walk measured.
         config: How it was set up.
+        spec: The walk's specification, resolved (the defaults it left to the robot
+            spelled out): :func:`~mpcwalk.walking.spec.write_spec` writes it, and it walks
+            the same walk again.
     """
 
     robot: str
@@ -108,6 +112,7 @@ class WalkResult:
     fall: FallStatus
     metrics: WalkMetrics
     config: WalkConfig
+    spec: WalkSpec
 
     def to_dict(self) -> dict[str, Any]:
         """The content of ``metrics.json``: the metrics, then the ``config`` block."""

@@ -1,7 +1,6 @@
-"""What a simulated walk senses and how its world differs from the model: :class:`WorldOptions`.
+"""What a simulated walk senses and how its world differs from the model: :class:`WorldSpec`.
 
-The options of :func:`~mpcwalk.walking.runner.run_walk` (and ``mpcwalk walk``) that make the
-simulated robot a real one, in one typed place, validated once:
+The simulated robot is a real one in these ways:
 
 - the sensors: the robot's sensor model (:class:`~mpcwalk.sim.sensor_model.SensorModel`:
   IMU noise and bias, encoder quantisation and noise, foot force/torque noise) scaled by
@@ -12,16 +11,14 @@ simulated robot a real one, in one typed place, validated once:
 - the :class:`~mpcwalk.sim.perturbation.Perturbation` of the simulated robot (torso mass, CoM
   offset, friction, servo strength), never applied to the controller's model;
 - the :class:`~mpcwalk.robot.ground.Ground` (tilt, bumps), the controller's model staying on
-  a level floor;
-- the seed of the sensor noise.
+  a level floor.
 
-``ideal=True`` is the old behaviour of the simulator: exact sensors, no latency and, unless
+``ideal=True`` is the simulator before sensing: exact sensors, no latency and, unless
 ``state`` says otherwise, the controller reading the ground truth.
 """
 
-import dataclasses
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from mpcwalk.estimation.estimated_state import SOURCES
@@ -35,49 +32,59 @@ if TYPE_CHECKING:
 
 
 @dataclass(frozen=True)
-class WorldOptions:
-    """Sensors, state source, perturbation and seed of a simulated walk.
+class WorldSpec:
+    """Sensors, state source, the simulated robot's departure from the model, the ground.
 
     Attributes:
         noise_scale: Factor on every noise and bias of the robot's sensor model (0: exact
             sensors, 1: the model's levels, 2: twice them), >= 0.
         latency: Sensing-to-actuation latency [s], a multiple of the control period, >= 0;
             None: the sensor model's (one control period).
-        ideal: Exact sensors without latency (the old simulator); excludes ``noise_scale``
-            other than 1 and a ``latency``.
+        ideal: Exact sensors without latency (the simulator before sensing); excludes a
+            ``noise_scale`` other than 1 and a ``latency``.
         state: Where the controller's state comes from: ``"estimator"`` (the sensors) or
-            ``"oracle"`` (the simulator's ground truth of the current time: the sensor noise
-            and the latency then reach the controller no more).
-        perturbation: How the simulated robot differs from the controller's model.
-        seed: Seed of the sensor noise and of the ground's bumps (same seed, same walk).
-        ground: Tilt and bumps of the simulated ground (its seed is ``seed``).
+            ``"oracle"`` (the simulator's ground truth of the current time); None:
+            ``"oracle"`` with ``ideal`` sensors, else ``"estimator"``.
+        mass_scale: Factor on the torso mass of the simulated robot.
+        com_offset: Shift ``(dx, dy)`` [m] of the torso's CoM of the simulated robot.
+        friction: Friction coefficient of the floor contacts (None: the model's).
+        servo_strength: Factor on the servos' gains and torque limits.
+        ground_tilt: Slope of the ground [deg], up towards ``ground_tilt_direction``.
+        ground_tilt_direction: Azimuth of the uphill direction [deg] (0: forward, 90: left).
+        ground_roughness: Largest height of the ground's random bumps [m] (0: flat).
 
     Raises:
-        ConfigurationError: A value out of its range, or ``ideal`` with a noise scale or a
-            latency.
+        ConfigurationError: A value out of its range (the perturbation's and the ground's
+            own errors name the range), or ``ideal`` with a noise scale or a latency.
     """
 
     noise_scale: float = 1.0
     latency: float | None = None
     ideal: bool = False
-    state: str = "estimator"
-    perturbation: Perturbation = field(default_factory=Perturbation)
-    seed: int = 0
-    ground: Ground = field(default_factory=Ground)
+    state: str | None = None
+    mass_scale: float = 1.0
+    com_offset: tuple[float, float] = (0.0, 0.0)
+    friction: float | None = None
+    servo_strength: float = 1.0
+    ground_tilt: float = 0.0
+    ground_tilt_direction: float = 0.0
+    ground_roughness: float = 0.0
 
     def __post_init__(self) -> None:
-        if not (isinstance(self.noise_scale, (int, float)) and math.isfinite(self.noise_scale)):
+        if not (
+            isinstance(self.noise_scale, (int, float))
+            and not isinstance(self.noise_scale, bool)
+            and math.isfinite(self.noise_scale)
+            and self.noise_scale >= 0.0
+        ):
             raise ConfigurationError(
                 f"noise_scale must be a finite number >= 0, got {self.noise_scale!r}; "
                 "0 gives exact sensors, 1 the robot's sensor model."
             )
-        if self.noise_scale < 0.0:
-            raise ConfigurationError(
-                f"noise_scale must be >= 0, got {self.noise_scale!r}; 0 gives exact sensors, "
-                "1 the robot's sensor model."
-            )
+        object.__setattr__(self, "noise_scale", float(self.noise_scale))
         if self.latency is not None and not (
             isinstance(self.latency, (int, float))
+            and not isinstance(self.latency, bool)
             and math.isfinite(self.latency)
             and self.latency >= 0.0
         ):
@@ -85,89 +92,39 @@ class WorldOptions:
                 f"latency must be a number of seconds >= 0 (or None for the sensor model's "
                 f"one control period), got {self.latency!r}."
             )
+        if not isinstance(self.ideal, bool):
+            raise ConfigurationError(f"ideal must be true or false, got {self.ideal!r}.")
         if self.ideal and (self.noise_scale != 1.0 or self.latency is not None):
             raise ConfigurationError(
                 "ideal sensors have no noise and no latency: give ideal=True (--ideal) alone, "
                 f"not with noise_scale={self.noise_scale!r} or latency={self.latency!r}."
             )
+        if self.state is None:
+            object.__setattr__(self, "state", "oracle" if self.ideal else "estimator")
         if self.state not in SOURCES:
             raise ConfigurationError(
                 f"state must be one of {', '.join(SOURCES)}, got {self.state!r}; 'estimator' "
                 "walks on the sensors, 'oracle' on the simulator's ground truth."
             )
-        if not isinstance(self.perturbation, Perturbation):
-            raise ConfigurationError(
-                "perturbation must be a mpcwalk.sim.perturbation.Perturbation, got "
-                f"{type(self.perturbation).__name__}; build one with Perturbation(mass_scale=...)."
-            )
-        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
-            raise ConfigurationError(f"seed must be an integer >= 0, got {self.seed!r}.")
-        if not isinstance(self.ground, Ground):
-            raise ConfigurationError(
-                "ground must be a mpcwalk.robot.ground.Ground, got "
-                f"{type(self.ground).__name__}; build one with Ground(tilt=..., roughness=...)."
-            )
+        object.__setattr__(self, "com_offset", _pair(self.com_offset))
+        self.perturbation  # noqa: B018 - its checks, now
+        self.ground(seed=0)  # likewise
 
-    @classmethod
-    def build(
-        cls,
-        *,
-        noise_scale: float = 1.0,
-        latency: float | None = None,
-        ideal: bool = False,
-        state: str | None = None,
-        perturbation: Perturbation | None = None,
-        mass_scale: float | None = None,
-        com_offset: tuple[float, float] | None = None,
-        friction: float | None = None,
-        servo_strength: float | None = None,
-        seed: int = 0,
-        ground_tilt: float = 0.0,
-        ground_tilt_direction: float = 0.0,
-        ground_roughness: float = 0.0,
-    ) -> "WorldOptions":
-        """The options from the keywords of :func:`~mpcwalk.walking.runner.run_walk`.
+    @property
+    def perturbation(self) -> Perturbation:
+        """How the simulated robot differs from the controller's model."""
+        return Perturbation(
+            mass_scale=self.mass_scale,
+            com_offset=self.com_offset,
+            friction=self.friction,
+            servo_strength=self.servo_strength,
+        )
 
-        ``state`` None is ``"oracle"`` with ``ideal`` sensors, else ``"estimator"``. The
-        perturbation is given either whole (``perturbation``) or by its keywords
-        (``mass_scale``, ``com_offset`` (dx, dy) [m], ``friction``, ``servo_strength``), not
-        both. The ground slopes up by ``ground_tilt`` [deg] towards the azimuth
-        ``ground_tilt_direction`` [deg] and has bumps up to ``ground_roughness`` [m].
-
-        Raises:
-            ConfigurationError: Both a perturbation and its keywords, or a bad value.
-        """
-        keywords: dict[str, Any] = {
-            name: value
-            for name, value in (
-                ("mass_scale", mass_scale),
-                ("com_offset", com_offset),
-                ("friction", friction),
-                ("servo_strength", servo_strength),
-            )
-            if value is not None
-        }
-        if perturbation is not None and keywords:
-            raise ConfigurationError(
-                f"Give a Perturbation or its keywords ({', '.join(keywords)}), not both: "
-                "put them into the Perturbation."
-            )
-        if perturbation is None:
-            if "com_offset" in keywords:
-                keywords["com_offset"] = _pair(keywords["com_offset"])
-            perturbation = Perturbation(**keywords)
-        if state is None:
-            state = "oracle" if ideal else "estimator"
-        options = cls(
-            noise_scale=noise_scale,
-            latency=latency,
-            ideal=ideal,
-            state=state,
-            perturbation=perturbation,
-            seed=seed,
-        )  # the seed checked, it draws the ground's bumps
-        ground = Ground(ground_tilt, ground_tilt_direction, ground_roughness, seed=seed)
-        return dataclasses.replace(options, ground=ground)
+    def ground(self, *, seed: int) -> Ground:
+        """The simulated ground; its bumps are drawn with ``seed``."""
+        return Ground(
+            self.ground_tilt, self.ground_tilt_direction, self.ground_roughness, seed=seed
+        )
 
     def latency_periods(self, control_period: float) -> int | None:
         """The latency in control periods (None: the sensor model's default).
@@ -188,7 +145,7 @@ class WorldOptions:
         return int(periods)
 
     def sensor_model(self, robot: "Robot", control_period: float) -> "SensorModel":
-        """The robot's sensor model with these options (noise scale, latency, ideal)."""
+        """The robot's sensor model in this world (noise scale, latency, ideal)."""
         from mpcwalk.sim.sensor_model import SensorModel
 
         model = SensorModel.for_robot(robot)
@@ -198,7 +155,7 @@ class WorldOptions:
         periods = self.latency_periods(control_period)
         return model if periods is None else model.with_latency(periods)
 
-    def to_config(self, robot: "Robot", control_period: float) -> dict[str, Any]:
+    def to_config(self, robot: "Robot", control_period: float, seed: int) -> dict[str, Any]:
         """The entries of the ``config`` block of ``metrics.json``
         (:class:`~mpcwalk.walking.result.WalkConfig`): ``state_source``, ``ideal_sensors``,
         ``noise_scale``, ``sensors`` (the simulated sensor model's figures), ``latency_s``
@@ -214,9 +171,9 @@ class WorldOptions:
             "latency_s": 0.0 if self.state == "oracle" else sensors.latency * control_period,
             "perturbation": {
                 **self.perturbation.to_dict(),
-                **self.ground.changes(),
+                **self.ground(seed=seed).changes(),
             },
-            "seed": int(self.seed),
+            "seed": int(seed),
         }
 
 
@@ -229,3 +186,6 @@ def _pair(value: Any) -> tuple[float, float]:
             f"com_offset must be two numbers (dx, dy) in [m], got {value!r}; e.g. (0.01, 0.0)."
         ) from None
     return dx, dy
+
+
+__all__ = ["WorldSpec"]

@@ -1,0 +1,69 @@
+"""``mpcwalk robots``: the robots that load here; ``mpcwalk robots check NAME|PRESET``."""
+
+import argparse
+
+from mpcwalk.exceptions import ConfigurationError
+
+
+def add_parser(sub) -> argparse.ArgumentParser:
+    """Add the ``robots`` sub-command to ``sub`` (``mpcwalk robots`` lists them,
+    ``mpcwalk robots check NAME|PRESET`` runs the checks a preset must pass)."""
+    p = sub.add_parser(
+        "robots",
+        help="list the robots that load on this machine; 'robots check PRESET' checks one",
+        description="List the robots whose description is installed, with their size and "
+        "walking defaults. 'mpcwalk robots check NAME|PRESET.toml' runs the checks a preset "
+        "must pass: it loads, Pinocchio and MuJoCo agree, the nominal posture is flat and "
+        "stands under the servos, a short walk with mpc does not fall (exit code 1 when one "
+        "fails).",
+    )
+    p.add_argument("action", nargs="?", choices=["check"], help="check one robot")
+    p.add_argument("robot", nargs="?", help="robot name or path of a preset file (.toml)")
+    p.add_argument("--no-walk", action="store_true", help="skip the short walk")
+    p.set_defaults(run=run)
+    return p
+
+
+def check(args) -> int:
+    """Run ``mpcwalk robots check ROBOT``: one line per check; 1 when one fails."""
+    from mpcwalk.walking.robot_check import check_robot
+
+    if not args.robot:
+        raise ConfigurationError(
+            "mpcwalk robots check needs a robot: a name (mpcwalk robots) or the path of a "
+            "preset file, e.g. mpcwalk robots check my_robot/my_biped.toml."
+        )
+    results = check_robot(args.robot, walk=not args.no_walk)
+    for result in results:
+        print(f"{'ok  ' if result.passed else 'FAIL'} {result.name}: {result.detail}")
+    return 0 if all(r.passed for r in results) else 1
+
+
+def run(args) -> int:
+    """Run ``mpcwalk robots``: one line per robot that loads.
+
+    Raises:
+        ConfigurationError: No robot is installed (exit code 2 in ``main``).
+    """
+    from mpcwalk.robot.loading import PRESETS_DIR, load_robot, robot_names
+
+    if getattr(args, "action", None) == "check":
+        return check(args)
+    names = robot_names()
+    if not names:
+        raise ConfigurationError(
+            f"No robot found: searched {PRESETS_DIR} for presets (*.toml) whose description "
+            "is installed (MJCF files in the robots folder, URDF models of the "
+            "example-robot-data package). Reinstall mpcwalk with its robot files."
+        )
+    for name in names:
+        robot = load_robot(name, visual=False)
+        period = robot.gait.step_duration
+        print(
+            f"{name:14s} {len(robot.joint_names):2d} joints, {robot.total_mass:6.1f} kg, CoM "
+            f"height {robot.com_height:.3f} m, soles {robot.sole_size[0]:.2f} x "
+            f"{robot.sole_size[1]:.2f} m, step duration "
+            f"{period:g} s  "
+            f"[{robot.description_path.name}]"
+        )
+    return 0

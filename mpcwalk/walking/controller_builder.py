@@ -1,0 +1,110 @@
+"""One way to build a controller: from a :class:`~mpcwalk.walking.spec.ControllerSpec`, a
+robot and a contact schedule to a :class:`~mpcwalk.control.controller.WalkingController`.
+
+Named controllers, the command line's parts by hand, the sweeps and the experiments all
+describe their controller as a :class:`~mpcwalk.walking.spec.ControllerSpec`; this module
+is the only place that turns one into objects. It also decides the timing of a walk whose
+plan gives none (:func:`walk_timing`).
+"""
+
+from collections.abc import Sequence
+
+from mpcwalk.control.controller import WalkingController
+from mpcwalk.control.stabilizers import StabilizerChain, make_stabilizer
+from mpcwalk.control.stabilizers.base import Stabilizer
+from mpcwalk.footsteps.footstep import StepTiming
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.gait.gait_defaults import GaitDefaults
+from mpcwalk.generators import generator_class
+from mpcwalk.generators.registry import check_options
+from mpcwalk.robot import Robot
+from mpcwalk.walking.spec import ControllerSpec, PlanSpec
+
+
+def build_stabilizer(names: Sequence[str]) -> Stabilizer | None:
+    """The stabilizers called ``names``, chained in that order (None: no name).
+
+    Raises:
+        NotRegistered: An unknown stabilizer name.
+    """
+    parts = [_reaim() if name == "reaim" else make_stabilizer(name) for name in names]
+    chain = [part for part in parts if part is not None]
+    return StabilizerChain(chain) if chain else None
+
+
+def _reaim() -> Stabilizer:
+    from mpcwalk.control.stabilizers.paper_a import PaperAStateMachine
+
+    return PaperAStateMachine(yaw_source="imu")
+
+
+def check_controller(spec: ControllerSpec) -> None:
+    """The generator and the options of ``spec``, checked before anything is built.
+
+    Raises:
+        GeneratorNotFound: Unknown generator.
+        ConfigurationError: An option the generator or the controller does not take (the
+            message lists the ones it takes).
+    """
+    check_options(
+        generator_class(spec.generator), spec.generator_options, f"generator '{spec.generator}'"
+    )
+    check_options(WalkingController, spec.controller_options, "controller")
+    build_stabilizer(spec.stabilizers)  # the names, checked
+
+
+def build_controller(
+    robot: Robot,
+    spec: ControllerSpec,
+    schedule: ContactSchedule,
+    *,
+    control_period: float,
+    step_height: float,
+) -> WalkingController:
+    """The controller of ``spec`` on ``robot``, following ``schedule``.
+
+    The robot preset's ``dcm_gain`` and ``observer_gain`` come first, the specification's
+    controller options over them.
+    """
+    check_controller(spec)
+    gait = robot.gait
+    options: dict = {
+        key: value
+        for key, value in (("dcm_gain", gait.dcm_gain), ("observer_gain", gait.observer_gain))
+        if value is not None
+    }
+    options.update(spec.controller_options)
+    options["swing_profile"] = spec.swing_profile
+    if spec.arm_swing:
+        options["arm_swing"] = spec.arm_swing
+    stabilizer = build_stabilizer(spec.stabilizers)
+    if stabilizer is not None:
+        options["stabilizer"] = stabilizer
+    return WalkingController.for_robot(
+        robot,
+        spec.generator,
+        schedule,
+        control_period=control_period,
+        feedback=spec.feedback,
+        step_height=step_height,
+        generator_options=dict(spec.generator_options),
+        **options,
+    )
+
+
+def walk_timing(generator: str, gait: GaitDefaults, plan: PlanSpec) -> StepTiming:
+    """The step timing of a walk: the plan's, else the generator's own timing
+    (:attr:`PatternGenerator.default_timing`: paper A's 12 s for the static gaits), else the
+    robot preset's ``[gait]`` table."""
+    own = generator_class(generator).default_timing
+    if own is not None and plan.step_duration is None and plan.double_support_ratio is None:
+        return StepTiming(step_duration=own[0], double_support_ratio=own[1])
+    step_duration = gait.step_duration if plan.step_duration is None else plan.step_duration
+    ratio = plan.double_support_ratio
+    return StepTiming(
+        step_duration=float(step_duration),
+        double_support_ratio=float(gait.double_support_ratio if ratio is None else ratio),
+    )
+
+
+__all__ = ["build_controller", "build_stabilizer", "check_controller", "walk_timing"]
