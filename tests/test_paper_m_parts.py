@@ -24,7 +24,7 @@ from mpcwalk.footsteps.footstep import FootGeometry, FootstepPlan
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators import make_generator
 from mpcwalk.models.lipm import LIPM
-from mpcwalk.walking.attitude_metrics import attitude_metrics as _attitude_metrics
+from mpcwalk.walking.metrics import attitude_metrics as _attitude_metrics
 from mpcwalk.walking.metrics import yaw_deviation_deg
 from mpcwalk.walking.runner import plan_walk_footsteps
 

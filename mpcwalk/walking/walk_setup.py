@@ -10,8 +10,11 @@ the ``spec.toml`` written next to the results walks the same walk again.
 
 import dataclasses
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
+from mpcwalk._checks import checked_number
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import FootGeometry, FootstepPlan, StepTiming
 from mpcwalk.gait.contact_schedule import ContactSchedule
@@ -21,9 +24,58 @@ from mpcwalk.robot import Robot, load_robot
 from mpcwalk.sim import ExternalForce
 from mpcwalk.walking.controller_builder import check_controller, walk_timing
 from mpcwalk.walking.footstep_planning import plan_walk_footsteps
-from mpcwalk.walking.inputs import check_pushes, check_step_height
 from mpcwalk.walking.outputs import check_video_path
 from mpcwalk.walking.spec import WalkSpec
+
+#: Largest push force, in multiples of the robot's weight.
+MAX_PUSH_WEIGHTS = 100.0
+
+
+def check_step_height(robot: Robot, step_height: Any) -> None:
+    """The swing height (None: the preset's) lifts the foot and stays below half the CoM
+    height of ``robot`` (the plan checked its type and sign)."""
+    if step_height is not None:
+        checked_number(
+            "step_height",
+            step_height,
+            low=0.0,
+            high=0.5 * robot.com_height,
+            low_inclusive=False,
+            unit="m",
+            fix=f"the swing foot must lift (> 0) and stay below half the CoM height of "
+            f"{robot.name}",
+        )
+
+
+def check_pushes(pushes: Any, robot: Robot, walk_end: float) -> list[ExternalForce]:
+    """Pushes as :class:`ExternalForce`, within the walk and of a physical size."""
+    if isinstance(pushes, (str, bytes)) or not isinstance(pushes, Sequence):
+        raise ConfigurationError(
+            f"pushes must be a list of ExternalForce, got {pushes!r}; e.g. "
+            "pushes=[parse_push('3.0,0.1,10,0,0')]."
+        )
+    limit = MAX_PUSH_WEIGHTS * robot.total_mass * 9.81
+    checked = []
+    for push in pushes:
+        if not isinstance(push, ExternalForce):
+            raise ConfigurationError(
+                f"Each push must be an ExternalForce, got {push!r}; build it with "
+                f"mpcwalk.sim.parse_push({str(push)!r}) or ExternalForce(start, duration, force)."
+            )
+        force = float((push.force**2).sum() ** 0.5)
+        if force > limit:
+            raise ConfigurationError(
+                f"A push of {force:.3g} N is beyond {MAX_PUSH_WEIGHTS:g} times the weight of "
+                f"{robot.name} ({limit:.3g} N): no robot survives it and the simulation only "
+                "diverges; use a smaller force."
+            )
+        if push.start >= walk_end:
+            raise ConfigurationError(
+                f"A push starts at {push.start:g} s, after the walk's end at {walk_end:g} s: it "
+                "would never act; start it earlier or walk longer."
+            )
+        checked.append(push)
+    return checked
 
 
 @dataclass(frozen=True)

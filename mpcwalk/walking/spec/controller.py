@@ -27,6 +27,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from mpcwalk._checks import checked_number
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.registry import Entry, Registry
 
@@ -34,6 +35,8 @@ from mpcwalk.registry import Entry, Registry
 SWING_PROFILES = ("cosine", "ctraj")
 #: Options of the controller that are fields of their own in a :class:`ControllerSpec`.
 _OWN_FIELDS = ("feedback", "stabilizer", "arm_swing", "swing_profile")
+#: Paper M's arm swing factor s: 0.8 in the paper; beyond this the hands fly.
+MAX_ARM_SWING = 2.0
 #: The name of a controller composed by hand.
 CUSTOM = "custom"
 
@@ -126,9 +129,6 @@ class ControllerSpec:
                 'e.g. ("reaim", "ankle-imu").'
             )
         object.__setattr__(self, "stabilizers", tuple(s for s in stabilizers if s != "none"))
-        from mpcwalk._checks import checked_number
-        from mpcwalk.walking.inputs import MAX_ARM_SWING
-
         swing = checked_number(
             "arm_swing", self.arm_swing, low=0.0, high=MAX_ARM_SWING, fix="paper M: 0.8"
         )

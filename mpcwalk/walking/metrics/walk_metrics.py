@@ -15,11 +15,10 @@ import numpy as np
 from mpcwalk.footsteps.footstep import Side, wrap_angle
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.sim import FallStatus
-from mpcwalk.walking.attitude_metrics import attitude_metrics, yaw_deviation_deg
-from mpcwalk.walking.cop_margins import cop_margins, measured_support_polygon
-from mpcwalk.walking.estimator_metrics import EstimatorAccuracy
 from mpcwalk.walking.log import WalkLog
-from mpcwalk.walking.planned_yaw import planned_yaw_change
+from mpcwalk.walking.metrics.attitude import attitude_metrics, planned_yaw_change, yaw_deviation_deg
+from mpcwalk.walking.metrics.cop_margins import cop_margins, measured_support_polygon
+from mpcwalk.walking.metrics.estimator_accuracy import EstimatorAccuracy
 
 _SIDES = (Side.LEFT, Side.RIGHT)
 
@@ -79,7 +78,7 @@ class WalkMetrics:
         yaw_rate_planned_deg_s: Rate of the footsteps' heading over the same steps [deg/s].
         estimator_com_error_rms_m: Estimated CoM against the true one (3D) at the time of
             the readings it came from, RMS over the ticks [m]; None when the controller read
-            the ground truth (:class:`~mpcwalk.walking.estimator_metrics.EstimatorAccuracy`).
+            the ground truth (:class:`~mpcwalk.walking.metrics.estimator_accuracy.EstimatorAccuracy`).
         estimator_com_error_max_m: Its largest value [m].
         estimator_com_error_support_rms_m: Same for the CoM relative to the support (the
             mean of the soles in contact), RMS [m]: free of the odometry's drift.

@@ -1,15 +1,15 @@
 """Attitude metrics of a walk: roll/pitch excursions, yaw rate over the walking phases, and
 the yaw deviation a push causes (paper M's measure of its stabilizer)."""
 
+import itertools
 from typing import Any
 
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.footsteps.footstep import wrap_angle
+from mpcwalk.footsteps.footstep import Side, wrap_angle
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.walking.log import WalkLog
-from mpcwalk.walking.planned_yaw import planned_yaw_change
 
 
 def attitude_metrics(log: WalkLog, schedule: ContactSchedule, end: float) -> dict[str, Any]:
@@ -64,3 +64,15 @@ def yaw_deviation_deg(
     reference_yaw = np.interp(log.time[mask], reference.time, np.unwrap(reference.base_rpy[:, 2]))
     deviation = np.abs(wrap_angle(np.unwrap(log.base_rpy[:, 2])[mask] - reference_yaw))
     return float(np.degrees(deviation.max() if statistic == "max" else deviation[-1]))
+
+
+def planned_yaw_change(schedule: ContactSchedule, nb_stances: int) -> float:
+    """The heading [rad] the plan's first ``nb_stances`` stances turn through (the mid-yaw
+    of each stance's two soles, summed stance to stance)."""
+    yaws, total = [], 0.0
+    for stance in schedule.plan.stances()[:nb_stances]:
+        left, right = stance[Side.LEFT].yaw, stance[Side.RIGHT].yaw
+        yaws.append(left + 0.5 * float(wrap_angle(right - left)))
+    for a, b in itertools.pairwise(yaws):
+        total += float(wrap_angle(b - a))
+    return total
