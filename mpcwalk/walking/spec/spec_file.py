@@ -105,7 +105,7 @@ def spec_to_toml(spec: WalkSpec) -> str:
             value = values[part][f.name]
             note = NOTES.get(f.name, "")
             if value is None:
-                lines.append(f"# {f.name} =  # unset; {note}")
+                lines.append(f"# {f.name} = (unset)  # {note}")
             else:
                 lines.append(f"{f.name} = {_value(value)}" + (f"  # {note}" if note else ""))
     if values["labels"]:
