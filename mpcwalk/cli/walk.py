@@ -80,8 +80,8 @@ def walk(args: argparse.Namespace, *, observer=None) -> int:
     from mpcwalk.walking.outputs import write_walk_outputs
     from mpcwalk.walking.runner import run_walk
 
+    spec = spec_from_args(args, out=args.out)
     out = check_out_dir(args.out, overwrite=args.overwrite)
-    spec = spec_from_args(args, out=out)
     created = not out.exists()
     if args.video:  # written during the walk
         out.mkdir(parents=True, exist_ok=True)
