@@ -190,13 +190,14 @@ def add_walk_options(p: argparse.ArgumentParser) -> None:
         type=float,
         default=S,
         metavar="X",
-        help="factor on the torso mass of the simulated robot (not of the controller's model)",
+        help="factor on the torso mass of the simulated robot, not of the controller's model "
+        "(default: 1)",
     )
     world.add_argument(
         "--com-offset",
         default=S,
         metavar="DX,DY",
-        help="shift of the torso's CoM of the simulated robot [m], forward and left",
+        help="shift of the torso's CoM of the simulated robot [m], forward and left (default: 0,0)",
     )
     world.add_argument(
         "--friction",
@@ -210,7 +211,7 @@ def add_walk_options(p: argparse.ArgumentParser) -> None:
         type=float,
         default=S,
         metavar="X",
-        help="factor on the servos' gains and torque limits of the simulated robot",
+        help="factor on the servos' gains and torque limits of the simulated robot (default: 1)",
     )
     world.add_argument(
         "--ground-tilt",

@@ -89,7 +89,8 @@ def plan_walk_footsteps(
         )
     if path is None:  # excluded above; narrows the type
         raise ConfigurationError("A walk without a velocity command needs a .mdat path file.")
-    waypoints = _path_in_robot_frame(read_mdat(path), left, right)
+    # a file, whatever its name (read_mdat takes a string that names no file for content)
+    waypoints = _path_in_robot_frame(read_mdat(Path(path)), left, right)
     plan = plan_from_path(waypoints, rectangle=limits.rectangle(), timing=timing)
     if nb_steps is not None and nb_steps < plan.nb_steps:
         plan = FootstepPlan(plan.initial_left, plan.initial_right, plan.steps[:nb_steps], timing)

@@ -173,7 +173,7 @@ class ControllerSpec:
         """The controller of a specification file's ``[controller]`` table: the named
         controller its ``name`` names, changed by the other fields given (none: ``mpc``)."""
         name = fields.get("name", CUSTOM if len(fields) else "mpc")
-        if name in CONTROLLERS:
+        if name != CUSTOM:  # an unknown name is refused (NotRegistered), not walked as mpc
             return cls.named(name).replace(**{k: v for k, v in fields.items() if k != "name"})
         return cls(**fields)
 

@@ -138,13 +138,13 @@ def read_spec(path: str | Path) -> WalkSpec:
         values = tomllib.loads(path.read_text(encoding="utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
         raise SpecFileError(f"not a TOML file: {error}", path=str(path)) from None
-    from mpcwalk.exceptions import ConfigurationError
+    from mpcwalk.exceptions import ConfigurationError, NotRegistered
 
     try:
         return WalkSpec.from_dict(values)
     except SpecFileError:
         raise
-    except ConfigurationError as error:
+    except (ConfigurationError, NotRegistered) as error:
         raise SpecFileError(str(error), path=str(path)) from None
 
 

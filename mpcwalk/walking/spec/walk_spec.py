@@ -171,6 +171,9 @@ class WalkSpec:
             if part == "controller":
                 new = current.replace(**changes)
             else:
+                if part == "world" and "ideal" in changes and "state" not in changes:
+                    if current.state == ("oracle" if current.ideal else "estimator"):
+                        changes["state"] = None  # the state source follows the sensors
                 new = dataclasses.replace(current, **changes)
             spec = dataclasses.replace(spec, **{part: new})
         return spec
