@@ -61,8 +61,9 @@ def metrics_page() -> str:
     lines = [
         "# `metrics.json`",
         "",
-        "Every `mpcwalk walk` writes `metrics.json` in its `--out` folder (and `run_walk` "
-        "returns the same as `result.metrics`, `result.config`). Its keys are the fields of "
+        "Every `mpcwalk walk` writes `metrics.json` in its `--out` folder, beside `spec.toml` "
+        "(the walk's specification, to walk it again with `--spec`); `run_walk` "
+        "returns the same as `result.metrics`, `result.config` (and `result.spec`). Its keys are the fields of "
         "`WalkMetrics`, then a `config` block with the fields of `WalkConfig`. A value is "
         "`null` where it cannot be measured (no landing checked, no CoP, a run shorter than "
         "the window). Units are in the names: `_m`, `_cm`, `_mm`, `_s`, `_deg`, `_us`.",

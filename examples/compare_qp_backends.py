@@ -6,14 +6,10 @@ by DAQP through its own workspace (the default) and by quadprog through qpsolver
 
 import mpcwalk
 
+walk = mpcwalk.WalkSpec.build("bioloid-like", controller="mpc", command=(0.1, 0.0, 0.0), nb_steps=4)
 for solver in ("daqp-direct", "quadprog"):
-    result = mpcwalk.run_walk(
-        "bioloid-like",
-        "mpc",
-        command=(0.1, 0.0, 0.0),
-        nb_steps=4,
-        generator_options={"solver": solver},
-    )
+    # the same walk, one field changed: the generator's options (the controller: "custom")
+    result = mpcwalk.run_walk(walk.replace(generator_options={"solver": solver}))
     m = result.metrics
     print(
         f"{solver:12s} fell {m.fell}, generator tick {m.generator_tick_us_median:.0f} us "

@@ -8,12 +8,15 @@ every row and runs nothing.
 
 import sys
 
-from mpcwalk.sweep import WALK_COLUMNS, Sweep, WalkCase, run_sweep, run_walk_case
+from mpcwalk import WalkSpec
+from mpcwalk.sweep import Sweep, run_sweep
+from mpcwalk.walking.sweep_cases import WALK_COLUMNS, run_walk_case
 
 out = sys.argv[1] if len(sys.argv) > 1 else "out/sweep"
 address = sys.argv[2] if len(sys.argv) > 2 else None
-cases = tuple(
-    WalkCase("bioloid-like", controller, nb_steps=3, mass_scale=mass, seed=seed)
+walk = WalkSpec.build("bioloid-like", command=(0.1, 0.0, 0.0), nb_steps=3)
+cases = tuple(  # each case a walk specification, its id the hash of the specification
+    walk.replace(controller=controller, mass_scale=mass, seed=seed)
     for controller in ("mpc", "paper-m-open")
     for mass in (0.8, 1.0, 1.2)
     for seed in (0, 1)
@@ -26,3 +29,4 @@ for row in run.rows:
     print(
         f"{row['controller']:13s} mass x{row['mass_scale']:.1f} seed {row['seed']}: fell {row['fell']}"
     )
+print("walk the last one again alone:", cases[-1].command_line(out="out/again"))

@@ -73,7 +73,11 @@ class SmoothMpc(MpcGenerator):
 
 # in MuJoCo: registered by name (module, class), the walk runner and the command line find it
 GENERATORS[SmoothMpc.name] = (__name__, "SmoothMpc")
-result = mpcwalk.run_walk("bioloid-like", SmoothMpc.name, command=(0.1, 0.0, 0.0), nb_steps=4)
+# the mpc controller (closed loop, balance, heading hold) with this generator: a "custom" one
+spec = mpcwalk.WalkSpec.build(
+    "bioloid-like", generator=SmoothMpc.name, command=(0.1, 0.0, 0.0), nb_steps=4
+)
+result = mpcwalk.run_walk(spec)
 m = result.metrics
 print(
     f"{SmoothMpc.name} in MuJoCo: fell {m.fell}, CoP margin p5 {1000 * m.cop_margin_p05_m:.1f} mm"

@@ -1,8 +1,8 @@
-"""Shared test helpers: robots loaded once per session, and the walk loop of generators and
-controllers.
+"""Shared test helpers: robots loaded once per session, walks of a specification on them, and
+the walk loop of generators and controllers.
 
 Test modules use the fixtures, or import the helpers where a module-level cached function
-needs them (``from conftest import get_robot, walk_outputs``).
+needs them (``from conftest import get_robot, walk, walk_outputs``).
 """
 
 import functools
@@ -20,6 +20,18 @@ def get_robot(name: str = "bioloid-like") -> Robot:
     """Robot ``name``, loaded once per test session, without meshes (same kinematics and
     physics, faster). Shared: do not modify it."""
     return load_robot(name, visual=False)
+
+
+def walk(robot: str = "bioloid-like", controller: Any = None, **fields: Any) -> Any:
+    """The :class:`~mpcwalk.walking.result.WalkResult` of ``run_walk`` of
+    ``WalkSpec.build(robot, controller=controller, **fields)`` (a controller name or a
+    ``ControllerSpec``, None: ``mpc``; any field of the specification by its name), on the
+    session's copy of the robot (:func:`get_robot`)."""
+    from mpcwalk.walking.runner import run_walk
+    from mpcwalk.walking.spec import WalkSpec
+
+    spec = WalkSpec.build(robot, controller=controller, **fields)
+    return run_walk(spec, robot=get_robot(robot))
 
 
 def walk_outputs(walker, *reset_args, measured: Callable[[Any], Any] | None = None) -> list:

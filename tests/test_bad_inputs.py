@@ -16,6 +16,7 @@ from mpcwalk.generators import make_generator
 from mpcwalk.sim import parse_push
 from mpcwalk.sim.sensor_faults import SensorFaults
 from mpcwalk.walking.runner import run_walk
+from mpcwalk.walking.spec import WalkSpec
 
 WALK = ["walk", "--robot", "bioloid-like", "--no-progress"]
 
@@ -43,9 +44,13 @@ CLI_CASES = [
     (["walk", "--steps", "2", "--solver", "gurobo", "--out", "{out}"], "Unknown solver"),
     (["walk", "--steps", "2", "--generator", "zmp-magic", "--out", "{out}"], "Unknown pattern"),
     (["walk", "--steps", "2", "--controller", "paper-x", "--out", "{out}"], "Unknown controller"),
+    (["walk", "--steps", "2", "--stabilizer", "hover", "--out", "{out}"], "Unknown stabilizer"),
+    (["walk", "--spec", "{tmp}/missing.toml", "--out", "{out}"], "missing.toml.*no such file"),
+    (["walk", "--spec", "{tmp}/short.mdat", "--out", "{out}"], "not a TOML file"),
+    (["walk", "--spec", "{tmp}/typo.toml", "--out", "{out}"], r"no field 'nb_step'.*nb_steps"),
     (
-        ["walk", "--steps", "2", "--controller", "mpc", "--stabilizer", "gyro", "--out", "{out}"],
-        "sets its own parts",
+        ["walk", "--spec", "{tmp}/bad.toml", "--out", "{out}"],
+        r"bad.toml.*nb_steps must be a positive integer",
     ),
     (["walk", "--robot", "nao", "--steps", "2", "--out", "{out}"], "nao"),
     (["walk", "--vx", "5", "--steps", "2", "--out", "{out}"], "exceeds its limit"),
@@ -77,6 +82,8 @@ def _prepare(tmp_path):
     (tmp_path / "binary.mdat").write_bytes(b"\xff\xfe\x00\x01 not text")
     (tmp_path / "nul.mdat").write_text("0 0.04 0 1 0 0 0\x00\n")
     (tmp_path / "short.mdat").write_text("0 0.04 0 1 0 0 0\n")
+    (tmp_path / "typo.toml").write_text('robot = "bioloid-like"\n[plan]\nnb_step = 2\n')
+    (tmp_path / "bad.toml").write_text('robot = "bioloid-like"\n[plan]\nnb_steps = -2\n')
     earlier = tmp_path / "earlier"
     earlier.mkdir()
     (earlier / "metrics.json").write_text("{}")
@@ -123,8 +130,9 @@ def test_a_path_file_with_a_byte_order_mark_is_read(tmp_path):
     assert len(read_mdat(path)) == 2
 
 
-def _walk(**kwargs):
-    return lambda: run_walk("bioloid-like", command=(0.1, 0.0, 0.0), **kwargs)
+def _walk(**fields):
+    """A walk of bioloid-like with ``fields`` of its specification, to call."""
+    return lambda: run_walk(WalkSpec.build("bioloid-like", command=(0.1, 0.0, 0.0), **fields))
 
 
 #: (label, call, what the error message says); each raises an MpcwalkError, nothing runs.
@@ -136,8 +144,10 @@ API_CASES = [
     ("solver on closed form", lambda: make_generator("analytic", solver="daqp"), "no option"),
     ("bogus setting", lambda: make_generator("mpc", solver_settings={"bogus": 1}), "bogus"),
     ("unknown generator", lambda: make_generator("zmp-magic"), "zmp-magic"),
-    ("push string", _walk(nb_steps=2, pushes=["1,0.1,5,0,0"]), "parse_push"),
-    ("pushes string", _walk(nb_steps=2, pushes="1,0.1,5,0,0"), "list of ExternalForce"),
+    ("push string", _walk(nb_steps=2, pushes=["1,0.1,5,0,0"]), "five finite numbers"),
+    ("pushes string", _walk(nb_steps=2, pushes="1,0.1,5,0,0"), "list of"),
+    ("push nan", _walk(nb_steps=2, pushes=[(1.0, 0.1, math.nan, 0.0, 0.0)]), "finite"),
+    ("push duration 0", _walk(nb_steps=2, pushes=[(1.0, 0.0, 5.0, 0.0, 0.0)]), "duration > 0"),
     ("duration str", _walk(duration="2"), "got '2'"),
     ("step_duration str", _walk(nb_steps=2, step_duration="0.5"), "got '0.5'"),
     ("nb_steps float", _walk(nb_steps=2.5), "positive integer"),
@@ -150,6 +160,10 @@ API_CASES = [
     ("late push", _walk(nb_steps=2, pushes=[parse_push("100,0.1,5,0,0")]), "after the walk"),
     ("huge push", _walk(nb_steps=2, pushes=[parse_push("1,0.1,1e30,0,0")]), "weight"),
     ("unknown controller", _walk(nb_steps=2, controller="paper-x"), "Unknown controller"),
+    ("unknown stabilizer", _walk(nb_steps=2, stabilizers=("hover",)), "Unknown stabilizer"),
+    ("own field option", _walk(nb_steps=2, controller_options={"arm_swing": 0.8}), "own"),
+    ("unknown field", _walk(nb_steps=2, perturbation=None), "no field 'perturbation'"),
+    ("sensor nan window", _walk(nb_steps=2, sensor_nan=[(2.0, 1.0)]), "start < end"),
     ("video folder", _walk(nb_steps=2, video="/"), "is a folder"),
     ("video unwritable", _walk(nb_steps=2, video="/nonexistent/walk.mp4"), "cannot be written"),
     ("command bool", lambda: VelocityCommand(True, 0.0, 0.0), "must be a number"),

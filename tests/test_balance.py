@@ -22,7 +22,7 @@ from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.swing_foot import FeetState
 from mpcwalk.generators import ComState
 from mpcwalk.robot.sensors import ForceTorqueReading
-from mpcwalk.walking.runner import plan_walk_footsteps
+from mpcwalk.walking.footstep_planning import plan_walk_footsteps
 
 OMEGA = math.sqrt(9.81 / 0.23)  # [1/s] bioloid-like's LIPM
 DT = 0.01  # [s]

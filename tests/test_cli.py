@@ -3,13 +3,16 @@ a new user sees in `--help`."""
 
 import argparse
 import json
+from pathlib import Path
 
 import pytest
 
 import mpcwalk
 from mpcwalk.bench.ticks import format_table, run_tick_benchmark
 from mpcwalk.cli import build_parser, main
-from mpcwalk.walking.cli import format_length
+from mpcwalk.cli.console import format_length
+from mpcwalk.cli.walk_options import spec_from_args
+from mpcwalk.walking.spec import WorldSpec
 
 
 def test_plan_writes_plots_and_metrics(tmp_path, capsys):
@@ -216,27 +219,27 @@ def test_walk_help_shows_the_sensor_and_world_options(monkeypatch):
     assert "sensors and world:" in text
     text = text.split("sensors and world:", 1)[1]
     for option, default in (
-        ("--noise-scale X", "(default: 1.0)"),
+        ("--noise-scale X", "default: 1)"),
         ("--latency S", "(default: one control period)"),
         ("--state {estimator,oracle}", "(default: estimator; oracle with --ideal)"),
-        ("--mass-scale X", "(default: 1.0)"),
+        ("--mass-scale X", "(default: 1)"),
         ("--com-offset DX,DY", "(default: 0,0)"),
         ("--friction MU", "(default: the robot model's)"),
-        ("--servo-strength X", "(default: 1.0)"),
+        ("--servo-strength X", "(default: 1)"),
         ("--seed N", "(default: 0)"),
     ):
         assert option in text and default in text.split(option, 1)[1][:300], option
     assert "--ideal" in text
 
 
-def test_walk_world_options_map_onto_run_walk():
-    from mpcwalk.walking.world_arguments import world_options
-
+def test_walk_world_options_map_onto_the_spec():
     args = build_parser().parse_args(
         [
             "walk",
             "--out",
             "x",
+            "--steps",
+            "2",
             "--noise-scale",
             "2",
             "--latency",
@@ -255,26 +258,29 @@ def test_walk_world_options_map_onto_run_walk():
             "5",
         ]
     )
-    assert world_options(args) == {
-        "noise_scale": 2.0,
-        "latency": 0.02,
-        "ideal": False,
-        "state": "oracle",
-        "mass_scale": 1.3,
-        "com_offset": (0.01, -0.005),
-        "friction": 0.4,
-        "servo_strength": 0.8,
-        "seed": 5,
-    }
-    defaults = world_options(build_parser().parse_args(["walk", "--out", "x"]))
-    assert defaults["state"] is None and defaults["com_offset"] == (0.0, 0.0)
+    spec = spec_from_args(args, out=Path("x"))
+    assert spec.world == WorldSpec(
+        noise_scale=2.0,
+        latency=0.02,
+        ideal=False,
+        state="oracle",
+        mass_scale=1.3,
+        com_offset=(0.01, -0.005),
+        friction=0.4,
+        servo_strength=0.8,
+    )
+    assert spec.run.seed == 5
+    args = build_parser().parse_args(["walk", "--out", "x", "--steps", "2"])
+    defaults = spec_from_args(args, out=Path("x"))
+    assert defaults.world == WorldSpec() and defaults.world.state == "estimator"
+    assert defaults.world.com_offset == (0.0, 0.0) and defaults.run.seed == 0
 
 
 @pytest.mark.parametrize(
     "argv, message",
     [
         (["--com-offset", "0.01"], "--com-offset takes two numbers DX,DY in metres, got '0.01'"),
-        (["--noise-scale", "-1"], "noise_scale must be >= 0"),
+        (["--noise-scale", "-1"], "noise_scale must be a finite number >= 0"),
         (["--latency", "0.015"], "latency = 0.015 s is not a multiple of the control period"),
         (["--ideal", "--noise-scale", "2"], "ideal sensors have no noise and no latency"),
         (["--mass-scale", "0"], r"Perturbation.mass_scale must be a number in [0.1, 10]"),

@@ -18,7 +18,7 @@ from mpcwalk.generators.pattern_generator import PatternGenerator
 from mpcwalk.ik import IKTargets, WholeBodyIK
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.models.support_polygon import SupportPolygon
-from mpcwalk.walking.runner import plan_walk_footsteps
+from mpcwalk.walking.footstep_planning import plan_walk_footsteps
 
 
 def make_schedule(robot, command=(0.1, 0.0, 0.0), nb_steps=4, step_duration=0.5):

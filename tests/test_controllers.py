@@ -6,16 +6,19 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import get_robot
+from conftest import get_robot, walk
 
+from mpcwalk.cli import build_parser
 from mpcwalk.cli import main as cli_main
+from mpcwalk.cli.walk_options import spec_from_args
 from mpcwalk.control.stabilizers.paper_a import PaperAStateMachine
-from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.exceptions import ConfigurationError, NotRegistered
 from mpcwalk.footsteps.footstep import StepTiming
 from mpcwalk.sim import parse_push
-from mpcwalk.walking.controllers import CONTROLLERS, controller_config
-from mpcwalk.walking.planning import plan_walk
+from mpcwalk.walking.footstep_planning import plan_walk_footsteps
+from mpcwalk.walking.lipm_plan import plan_walk
 from mpcwalk.walking.runner import run_walk
+from mpcwalk.walking.spec import CONTROLLERS, ControllerSpec, WalkSpec
 
 ROOT = Path(__file__).resolve().parent.parent
 PATHS = ROOT / "experiments" / "paper_a"
@@ -27,24 +30,38 @@ def test_controllers_are_listed_and_named(capsys):
     out = capsys.readouterr().out
     for name in ("paper-m", "paper-m-open", "paper-a", "preview", "mpc", "mpc-steps", "static-qp"):
         assert name in CONTROLLERS and f"{name} " in out
-    paper_m = controller_config("paper-m")
-    assert (paper_m.generator, paper_m.feedback, paper_m.stabilizer, paper_m.arm_swing) == (
+    paper_m = ControllerSpec.named("paper-m")
+    assert (paper_m.generator, paper_m.feedback, paper_m.stabilizers, paper_m.arm_swing) == (
         "analytic",
         False,
-        "gyro",
+        ("gyro",),
         0.8,
     )
-    with pytest.raises(ConfigurationError, match="Unknown controller 'paper-x'.*paper-m"):
-        controller_config("paper-x")
+    assert paper_m.name == "paper-m" and CONTROLLERS.load("paper-m") == paper_m
+    with pytest.raises(NotRegistered, match="Unknown controller 'paper-x'.*paper-m"):
+        ControllerSpec.named("paper-x")
 
 
-def test_a_controller_and_its_parts_by_hand_are_refused(tmp_path, capsys):
+def test_parts_beside_a_named_controller_change_it_into_a_custom_one():
     args = ["walk", "--controller", "paper-m", "--generator", "mpc", "--steps", "2"]
-    assert cli_main([*args, "--out", str(tmp_path / "w")]) == 2
-    assert "--controller paper-m sets its own parts; drop --generator" in capsys.readouterr().err
-    assert not (tmp_path / "w" / "metrics.json").exists()
-    with pytest.raises(ConfigurationError, match="sets its own stabilizer"):
-        run_walk("bioloid-like", controller="mpc", stabilizer="gyro", nb_steps=2)
+    spec = spec_from_args(build_parser().parse_args([*args, "--out", "w"]), out=Path("w"))
+    controller = spec.controller
+    assert controller.name == "custom" and controller.generator == "mpc"
+    # the rest of paper-m stays: open loop, gyro stabilizer, arm swing
+    assert (controller.feedback, controller.stabilizers, controller.arm_swing) == (
+        False,
+        ("gyro",),
+        0.8,
+    )
+    spec = WalkSpec.build("bioloid-like", controller="mpc", stabilizers=("gyro",), nb_steps=2)
+    assert spec.controller == ControllerSpec(generator="mpc", stabilizers=("gyro",))
+    # a part given with the named controller's own value leaves it named
+    paper_m = ControllerSpec.named("paper-m")
+    spec = WalkSpec.build("bioloid-like", controller="paper-m", generator="analytic")
+    assert spec.controller == paper_m and spec.controller.name == "paper-m"
+    args = ["walk", "--controller", "paper-m", "--stabilizer", "gyro", "--steps", "2"]
+    spec = spec_from_args(build_parser().parse_args([*args, "--out", "w"]), out=Path("w"))
+    assert spec.controller == paper_m
 
 
 @pytest.mark.slow
@@ -69,9 +86,9 @@ def test_paper_m_open_loop_walks_as_published(command, kwargs):
 
 @pytest.mark.slow
 def test_paper_m_engine_survives_f1_and_f2():
-    result = run_walk(
-        get_robot("bioloid-like"),
-        controller="paper-m",
+    result = walk(
+        "bioloid-like",
+        "paper-m",
         command=(0.1, 0.0, 0.0),
         duration=5.0,
         pushes=[parse_push(text) for text in F1_F2],
@@ -132,8 +149,7 @@ def _bioloid_path(tmp_path) -> Path:
 
 @pytest.mark.slow
 def test_path_reaims_with_the_robots_own_reachability(tmp_path):
-    robot = get_robot("bioloid-like")
-    result = run_walk(robot, "mpc", path=_bioloid_path(tmp_path), stabilizer=PaperAStateMachine())
+    result = walk("bioloid-like", "mpc", path=_bioloid_path(tmp_path), stabilizers=("reaim",))
     m = result.metrics
     assert not m.fell and m.steps_completed == m.steps_planned == 8
     assert m.foot_position_error_cm_max < 1.0  # 10.4 cm with Atlas's rectangle
@@ -146,7 +162,6 @@ def test_state_machine_takes_the_robots_rectangle_at_reset():
     from mpcwalk.footsteps.footstep import FootGeometry
     from mpcwalk.footsteps.velocity_planner import VelocityCommand
     from mpcwalk.gait.contact_schedule import ContactSchedule
-    from mpcwalk.walking.runner import plan_walk_footsteps
 
     for name in ("bioloid-like", "atlas-like"):
         robot = get_robot(name)
@@ -160,7 +175,9 @@ def test_state_machine_takes_the_robots_rectangle_at_reset():
 @pytest.mark.slow
 def test_long_turning_walk_holds_the_commanded_yaw():
     """120 s at 0.3 rad/s: 2.5 % short of the command without the heading hold."""
-    result = run_walk(get_robot("bioloid-like"), "mpc", command=(0.1, 0.0, 0.3), duration=120.0)
+    result = run_walk(
+        get_robot("bioloid-like"), controller="mpc", command=(0.1, 0.0, 0.3), duration=120.0
+    )
     m = result.metrics
     assert not m.fell
     commanded = math.degrees(0.3) * m.walking_time_planned_s * 240 / 241  # the closing step
@@ -176,13 +193,9 @@ def test_pushes_mpc_steps_falls_under_are_survived_with_the_step_timing_adapted(
     single support of a right step): mpc-steps falls; mpc-timing (the same, its landing
     brought forward when the capture point would leave the leg's reach) walks on, and its
     swing foot's reference does not jump when the schedule's clock does."""
-    from mpcwalk.walking.runner import run_walk
-
     push = parse_push(f"3.0,0.1,{direction}")
     runs = {
-        name: run_walk(
-            "bioloid-like", controller=name, command=(0.1, 0.0, 0.0), duration=6.0, pushes=[push]
-        )
+        name: walk("bioloid-like", name, command=(0.1, 0.0, 0.0), duration=6.0, pushes=[push])
         for name in ("mpc-steps", "mpc-timing")
     }
     assert runs["mpc-steps"].metrics.outcome == "fell"
@@ -199,12 +212,10 @@ def test_a_lateral_push_towards_the_stance_leg_is_walked_through():
     engine falls; the footstep-adaptive MPCs, with and without step timing, walk on (they
     fell when the push map was first drawn). Beyond about 0.4 N s all fall: the LIPM's
     bound there is the ankle's, 0.49 N s, with or without steps (results/capture_map)."""
-    from mpcwalk.walking.runner import run_walk
-
     push = parse_push("3.0,0.1,0,3.5,0")
     outcomes = {
-        name: run_walk(
-            "bioloid-like", controller=name, command=(0.1, 0.0, 0.0), duration=6.0, pushes=[push]
+        name: walk(
+            "bioloid-like", name, command=(0.1, 0.0, 0.0), duration=6.0, pushes=[push]
         ).metrics.outcome
         for name in ("paper-m", "mpc-steps", "mpc-timing")
     }
@@ -219,12 +230,11 @@ def test_a_push_towards_the_foot_about_to_lift_is_held_in_double_support():
     off while the DCM error points to that foot (both feet down, the ZMP on its sole) and
     walks on."""
     from mpcwalk.sim import ExternalForce
-    from mpcwalk.walking.runner import run_walk
 
     push = ExternalForce(1.0 + 2.9167 * 0.5, 0.1, np.array([0.0, 8.0, 0.0]))
     fell = {
-        name: run_walk(
-            "bioloid-like", controller=name, command=(0.1, 0.0, 0.0), nb_steps=5, pushes=[push]
+        name: walk(
+            "bioloid-like", name, command=(0.1, 0.0, 0.0), nb_steps=5, pushes=[push]
         ).fall.fell
         for name in ("mpc", "mpc-steps", "mpc-timing")
     }

@@ -8,7 +8,7 @@ import json
 
 import numpy as np
 import pytest
-from conftest import get_robot
+from conftest import walk
 
 from mpcwalk.cli import main
 from mpcwalk.control.faults import FaultMonitor
@@ -16,8 +16,6 @@ from mpcwalk.exceptions import ControllerStopped
 from mpcwalk.qp.result import QPResult
 from mpcwalk.qp.solvers.base import QPSolver
 from mpcwalk.qp.solvers.registry import SOLVERS, SolverEntry, make_solver
-from mpcwalk.sim.sensor_faults import SensorFaults
-from mpcwalk.walking.runner import run_walk
 
 
 class FaultySolver(QPSolver):
@@ -45,8 +43,8 @@ class FaultySolver(QPSolver):
 SOLVERS.register(SolverEntry("faulty", FaultySolver, lambda: True, "the suite's fault injector"))
 
 
-def _walk(**kwargs):
-    return run_walk(get_robot("bioloid-like"), "mpc", command=(0.1, 0.0, 0.0), nb_steps=4, **kwargs)
+def _walk(**fields):
+    return walk("bioloid-like", "mpc", command=(0.1, 0.0, 0.0), nb_steps=4, **fields)
 
 
 def _check_no_nan_reached_the_actuators(result):
@@ -84,8 +82,7 @@ def test_a_back_end_that_never_recovers_is_a_controlled_stop(tmp_path, capsys):
 
 
 def test_nan_and_dropped_sensor_readings_are_survived():
-    faults = SensorFaults(nan=[(1.5, 1.55)], dropout=[(2.0, 2.1)])
-    result = _walk(sensor_faults=faults)
+    result = _walk(sensor_nan=[(1.5, 1.55)], sensor_dropout=[(2.0, 2.1)])
     m = result.metrics
     assert m.outcome == "walked" and not m.fell
     assert m.sensor_faults == 5 + 10  # ticks of the two windows at 10 ms
@@ -93,7 +90,7 @@ def test_nan_and_dropped_sensor_readings_are_survived():
 
 
 def test_a_long_sensor_outage_is_a_controlled_stop():
-    result = _walk(sensor_faults=SensorFaults(nan=[(1.5, 5.0)]))
+    result = _walk(sensor_nan=[(1.5, 5.0)])
     m = result.metrics
     assert m.outcome == "stopped" and "bad or missing sensor readings" in m.stop_reason
     assert 1.7 < m.time_simulated_s < 1.9  # 26 ticks after 1.5 s (one of latency)

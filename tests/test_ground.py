@@ -13,6 +13,7 @@ from mpcwalk.cli import main as cli_main
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.ground import FIELD_NAME, Ground, clear_radius
 from mpcwalk.sim import Simulation
+from mpcwalk.walking.spec import read_spec
 
 
 def test_bad_grounds_are_named():
@@ -83,3 +84,5 @@ def test_mpc_walks_up_a_slope_and_over_bumps_from_the_command_line(tmp_path):
     assert code == 0 and not metrics["fell"]
     world = metrics["config"]["perturbation"]
     assert world["ground_tilt_deg"] == 3.0 and world["ground_roughness_m"] == 0.004
+    ground = read_spec(out / "spec.toml").world  # the ground, to walk on it again
+    assert (ground.ground_tilt, ground.ground_roughness) == (3.0, 0.004)

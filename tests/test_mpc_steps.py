@@ -311,9 +311,7 @@ def test_for_robot_takes_the_leg_limits_and_walks_in_mujoco(record_property):
     gen = FootstepMpcGenerator.for_robot(load_robot("bioloid-like", visual=False))
     assert gen.lipm.com_height == pytest.approx(0.23)
     assert (gen.reachability.y_min, gen.reachability.y_max) == pytest.approx((0.08, 0.12))
-    result = run_walk(
-        "bioloid-like", "mpc-steps", command=(0.1, 0.0, 0.0), nb_steps=6, progress=False
-    )
+    result = run_walk("bioloid-like", controller="mpc-steps", command=(0.1, 0.0, 0.0), nb_steps=6)
     metrics = result.metrics
     record_property("foot_step_error_cm_max", metrics["foot_step_error_cm_max"])
     assert not metrics["fell"] and metrics["mpc_failures"] == 0
@@ -422,17 +420,19 @@ def test_mujoco_push_felling_the_closed_form_gait_is_recovered_by_the_adaptive_m
     forward impulses survived, ``results/paper_m``: below 0.1 N s against 0.55 N s)."""
     from mpcwalk.sim import ExternalForce
     from mpcwalk.walking.runner import run_walk
+    from mpcwalk.walking.spec import WalkSpec
 
     push = [ExternalForce(2.05, 0.1, [3.0, 0.0, 0.0])]  # 0.3 N s
     runs = {
         name: run_walk(
-            "bioloid-like",
-            generator,
-            command=(0.1, 0.0, 0.0),
-            nb_steps=5,
-            pushes=push,
-            feedback=feedback,
-            progress=False,
+            WalkSpec.build(
+                "bioloid-like",
+                generator=generator,
+                command=(0.1, 0.0, 0.0),
+                nb_steps=5,
+                pushes=push,
+                feedback=feedback,
+            )
         ).metrics
         for name, generator, feedback in (
             ("open loop", "analytic", False),

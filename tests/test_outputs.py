@@ -11,7 +11,7 @@ import time
 
 import pytest
 
-import mpcwalk.walking.walk_command as walk_command
+import mpcwalk.walking.outputs as outputs
 from mpcwalk.cli import main
 from mpcwalk.walking.outputs import write_atomic, write_json
 
@@ -34,19 +34,16 @@ def test_atomic_write_leaves_the_old_file_when_the_writer_fails(tmp_path):
 
 def test_metrics_are_written_last(tmp_path, monkeypatch, capsys):
     order = []
-    real = walk_command.write_atomic
+    real = outputs.write_atomic
 
     def spy(path, write):
         order.append(path.name)
         return real(path, write)
 
-    monkeypatch.setattr(walk_command, "write_atomic", spy)
-    real_json = walk_command.write_json
-    monkeypatch.setattr(
-        walk_command, "write_json", lambda p, d: order.append(p.name) or real_json(p, d)
-    )
+    monkeypatch.setattr(outputs, "write_atomic", spy)  # write_json writes through it too
     assert main(ARGS + ["--steps", "1", "--out", str(tmp_path / "w")]) == 0
-    assert order[-1] == "metrics.json" and order[0] == "walk_log.npz"
+    # the walk's specification first, the metrics last
+    assert order[-1] == "metrics.json" and order[:2] == ["spec.toml", "walk_log.npz"]
     assert len(order) == len(set(order)) >= 4
 
 

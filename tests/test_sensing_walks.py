@@ -6,15 +6,14 @@ import math
 
 import numpy as np
 import pytest
-from conftest import get_robot
+from conftest import get_robot, walk
 
 from mpcwalk.control.controller import WalkingController
 from mpcwalk.estimation.estimated_state import EstimatedState
-from mpcwalk.exceptions import ConfigurationError, PerturbationError
-from mpcwalk.sim.perturbation import Perturbation
+from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.sim.sensor_model import SensorModel
 from mpcwalk.walking.runner import run_walk
-from mpcwalk.walking.world_options import WorldOptions
+from mpcwalk.walking.spec import WorldSpec
 
 ESTIMATOR_KEYS = (
     "estimator_com_error_rms_m",
@@ -24,11 +23,10 @@ ESTIMATOR_KEYS = (
 )
 
 
-def short_walk(**options):
-    """One step and the closing one on the small humanoid (3.5 s simulated)."""
-    return run_walk(
-        get_robot("bioloid-like"), "mpc", command=(0.1, 0.0, 0.0), nb_steps=1, **options
-    )
+def short_walk(**fields):
+    """One step and the closing one on the small humanoid (3.5 s simulated); ``fields`` of
+    the walk specification."""
+    return walk("bioloid-like", "mpc", command=(0.1, 0.0, 0.0), nb_steps=1, **fields)
 
 
 def test_the_controller_receives_the_estimate_of_delayed_readings(monkeypatch):
@@ -112,17 +110,17 @@ def test_same_seed_same_walk():
 @pytest.mark.parametrize(
     "options, error, message",
     [
-        ({"noise_scale": -1.0}, ConfigurationError, "noise_scale must be >= 0"),
+        ({"noise_scale": -1.0}, ConfigurationError, "noise_scale must be a finite number >= 0"),
         ({"latency": 0.015}, ConfigurationError, "not a multiple of the control period"),
         ({"latency": -0.01}, ConfigurationError, "latency must be a number of seconds"),
         ({"ideal": True, "noise_scale": 2.0}, ConfigurationError, "ideal sensors have no noise"),
         ({"state": "truth"}, ConfigurationError, "state must be one of estimator, oracle"),
         (
-            {"perturbation": Perturbation(mass_scale=1.1), "friction": 0.5},
+            {"perturbation": {"mass_scale": 1.1}},
             ConfigurationError,
-            r"Give a Perturbation or its keywords \(friction\)",
+            "A walk specification has no field 'perturbation'; its fields are .*mass_scale",
         ),
-        ({"mass_scale": 0.0}, PerturbationError, r"mass_scale must be a number in \[0.1, 10\]"),
+        ({"mass_scale": 0.0}, ConfigurationError, r"mass_scale must be a number in \[0.1, 10\]"),
         ({"com_offset": (0.01,)}, ConfigurationError, "com_offset must be two numbers"),
         ({"seed": -1}, ConfigurationError, "seed must be an integer >= 0"),
     ],
@@ -132,14 +130,14 @@ def test_bad_options_are_named_errors(options, error, message):
         short_walk(**options)
 
 
-def test_world_options_build_the_sensor_model():
+def test_the_world_builds_the_sensor_model():
     robot = get_robot("g1")
-    options = WorldOptions.build(noise_scale=0.5, latency=0.03)
-    model = options.sensor_model(robot, 0.01)
+    world = WorldSpec(noise_scale=0.5, latency=0.03)
+    model = world.sensor_model(robot, 0.01)
     assert model.latency == 3
     assert model.force_noise_std == pytest.approx(0.5 * SensorModel.large_robot().force_noise_std)
-    assert WorldOptions.build().sensor_model(robot, 0.01) == SensorModel.for_robot(robot)
-    assert WorldOptions.build(ideal=True).sensor_model(robot, 0.01) == SensorModel.ideal()
+    assert WorldSpec().sensor_model(robot, 0.01) == SensorModel.for_robot(robot)
+    assert WorldSpec(ideal=True).sensor_model(robot, 0.01) == SensorModel.ideal()
 
 
 #: The goals of the estimator's CoM error RMS (issue 11) [m]. Measured over 20 steps with
@@ -162,7 +160,7 @@ ESTIMATOR_GOALS = {
 @pytest.mark.parametrize("robot_name", ["bioloid-like", "g1", "atlas-like"])
 def test_estimator_accuracy_over_twenty_steps(robot_name):
     command, goal = ESTIMATOR_GOALS[robot_name]
-    result = run_walk(get_robot(robot_name), "mpc", command=command, nb_steps=20)
+    result = run_walk(get_robot(robot_name), controller="mpc", command=command, nb_steps=20)
     m = result.metrics
     assert not m.fell and m.steps_completed == m.steps_planned == 21
     assert result.config.latency_s == pytest.approx(0.01) and result.config.noise_scale == 1.0

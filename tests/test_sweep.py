@@ -116,3 +116,33 @@ def test_the_quick_robustness_matrix(tmp_path):
     )
     # the same command again runs nothing
     assert cli_main(["sweep", "robustness", "--quick", "--out", str(out), "--no-progress"]) == 0
+
+
+def test_walk_specifications_are_the_cases_of_a_sweep(tmp_path):
+    """Two short walks as the cases of a sweep: each row holds its specification's id and
+    columns (labels among them) and what the walk measured; a row gives its walk back, and
+    the same sweep again runs nothing."""
+    from mpcwalk.walking.spec import WalkSpec
+    from mpcwalk.walking.sweep_cases import (
+        CASE_COLUMNS,
+        WALK_COLUMNS,
+        run_walk_case,
+        spec_of_row,
+    )
+
+    base = WalkSpec.build("bioloid-like", controller="mpc", command=(0.1, 0.0, 0.0), nb_steps=2)
+    heavy = base.replace(mass_scale=1.1, seed=2, labels={"group": "heavy"})
+    walks = Sweep("walks", (base, heavy), run_walk_case, WALK_COLUMNS)
+    assert walks.table_columns()[: len(CASE_COLUMNS)] == list(CASE_COLUMNS)
+    run = run_sweep(walks, tmp_path, workers=1, progress=False)
+    assert run.complete and run.nb_run == 2
+    rows = {row["case_id"]: row for row in run.rows}
+    assert list(rows) == [base.case_id, heavy.case_id]
+    for spec in (base, heavy):
+        row = rows[spec.case_id]
+        assert row["error"] is None and row["fell"] is False and row["steps_planned"] == 3
+        assert spec_of_row(row) == spec.replace(labels=())
+    assert rows[heavy.case_id]["group"] == "heavy" and rows[heavy.case_id]["mass_scale"] == 1.1
+    assert rows[base.case_id]["group"] is None
+    again = run_sweep(walks, tmp_path, workers=1, progress=False)
+    assert again.nb_run == 0 and again.nb_resumed == 2

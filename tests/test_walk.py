@@ -7,12 +7,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import get_robot
+from conftest import get_robot, walk
 
 from mpcwalk.cli import main as cli_main
 from mpcwalk.sim import FallDetector, parse_push
+from mpcwalk.walking.footstep_planning import plan_walk_footsteps
 from mpcwalk.walking.metrics import WalkMetrics, cop_margins, landing_check_times
-from mpcwalk.walking.runner import plan_walk_footsteps, run_walk
+from mpcwalk.walking.runner import run_walk
+from mpcwalk.walking.spec import read_spec
 
 ROOT = Path(__file__).resolve().parent.parent
 TURN_RATE = math.radians(20.0)  # [rad/s] paper M's turning walk
@@ -53,9 +55,7 @@ def check_walk(
 @pytest.mark.parametrize("generator", ["analytic", "preview", "mpc"])
 def test_small_humanoid_walks_twenty_steps_forward(generator):
     """Paper M's Table 1: T = 0.5 s, z_c = 0.23 m, z_step = 0.04 m, r_ds = 0.2, 0.1 m/s."""
-    result = run_walk(
-        get_robot("bioloid-like"), generator, command=(0.1, 0.0, 0.0), nb_steps=20, progress=False
-    )
+    result = walk("bioloid-like", generator=generator, command=(0.1, 0.0, 0.0), nb_steps=20)
     m, config = result.metrics, result.config
     assert (
         config.step_duration_s,
@@ -77,13 +77,7 @@ def test_small_humanoid_walks_twenty_steps_forward(generator):
 @pytest.mark.parametrize("generator", ["analytic", "preview", "mpc"])
 def test_small_humanoid_turning_walk_of_paper_m(generator):
     """0.1 m/s and 20 deg/s for 10 s: 200 deg of yaw."""
-    result = run_walk(
-        get_robot("bioloid-like"),
-        generator,
-        command=(0.1, 0.0, TURN_RATE),
-        duration=10.0,
-        progress=False,
-    )
+    result = walk("bioloid-like", generator=generator, command=(0.1, 0.0, TURN_RATE), duration=10.0)
     m = result.metrics
     assert m.yaw_change_planned_deg == pytest.approx(200.0)
     # 10 s of walking: 20 steps and the closing one, 1 s standing before and after
@@ -105,7 +99,7 @@ def test_small_humanoid_turning_walk_of_paper_m(generator):
 @pytest.mark.slow
 def test_large_humanoid_walks_ten_steps_at_one_second_per_step():
     result = run_walk(
-        get_robot("atlas-like"), "mpc", command=(0.2, 0.0, 0.0), nb_steps=10, progress=False
+        get_robot("atlas-like"), controller="mpc", command=(0.2, 0.0, 0.0), nb_steps=10
     )
     assert result.config.step_duration_s <= 1.0  # paper A needed 12 s per step
     check_walk(result.metrics, distance_tolerance=0.1, foot_error_cm=7.0, cop_margin_min=-0.03)
@@ -113,7 +107,7 @@ def test_large_humanoid_walks_ten_steps_at_one_second_per_step():
 
 @pytest.mark.slow
 def test_unitree_g1_walks_ten_steps():
-    result = run_walk(get_robot("g1"), "mpc", command=(0.2, 0.0, 0.0), nb_steps=10, progress=False)
+    result = run_walk(get_robot("g1"), controller="mpc", command=(0.2, 0.0, 0.0), nb_steps=10)
     check_walk(result.metrics, distance_tolerance=0.06, foot_error_cm=5.0, cop_margin_min=-0.03)
 
 
@@ -121,7 +115,7 @@ def test_unitree_g1_walks_ten_steps():
 def test_large_humanoid_follows_paper_a_path_file():
     path = ROOT / "experiments" / "paper_a" / "straight.mdat"
     robot = get_robot("atlas-like")
-    result = run_walk(robot, "mpc", path=path, nb_steps=6, progress=False)
+    result = run_walk(robot, controller="mpc", path=path, nb_steps=6)
     m = result.metrics
     assert m.steps_planned == 6 and m.closing_steps == 0 and result.config.path == str(path)
     plan = result.schedule.plan
@@ -133,11 +127,8 @@ def test_large_humanoid_follows_paper_a_path_file():
 
 
 def test_fall_ends_the_run_early_and_says_why():
-    robot = get_robot("bioloid-like")
     push = parse_push("1.2,0.2,0,40,0")  # 40 N sideways on a 2 kg robot
-    result = run_walk(
-        robot, "mpc", command=(0.1, 0.0, 0.0), nb_steps=6, pushes=[push], progress=False
-    )
+    result = walk("bioloid-like", "mpc", command=(0.1, 0.0, 0.0), nb_steps=6, pushes=[push])
     m = result.metrics
     assert m.fell and result.fall.fell
     assert "base" in m.fall_reason
@@ -152,7 +143,7 @@ def test_log_round_trips_and_metrics_match_it(tmp_path, capsys):
     robot = get_robot("bioloid-like")
     result = run_walk(
         robot,
-        "mpc",
+        controller="mpc",
         command=(0.1, 0.0, 0.0),
         nb_steps=1,
         fall_detector=FallDetector.for_robot(robot),
@@ -244,6 +235,10 @@ def test_walk_command_writes_metrics_log_plots_and_video(tmp_path, capsys):
     assert 0.0 < metrics["estimator_com_error_rms_m"] < 0.005
     for name in ("walk_log.npz", "top_view.png", "com_cop.png", "estimator.png", "walk.mp4"):
         assert (out / name).stat().st_size > 1000, name
+    # the walk itself, to walk it again (mpcwalk walk --spec): the video is where it was written
+    spec = read_spec(out / "spec.toml")
+    assert spec.plan.command == (0.1, 0.0, 0.0) and spec.plan.nb_steps == 2
+    assert spec.controller.name == "mpc" and spec.run.video == str(out / "walk.mp4")
     out_text = capsys.readouterr().out
     assert "no fall" in out_text and "2 steps + 1 closing step" in out_text
     assert "CoP margin min" in out_text and "ZMP margin" not in out_text

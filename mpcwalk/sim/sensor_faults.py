@@ -1,8 +1,8 @@
 """Faults injected into a walk's sensor stream: what the controller must survive.
 
 Real sensor buses drop messages and drivers hand out garbage. :class:`SensorFaults` makes a
-simulated walk do the same, through the public API
-(``run_walk(..., sensor_faults=SensorFaults(nan=[(2.0, 2.05)], dropout=[(3.0, 3.1)]))``):
+simulated walk do the same, through the fields of its specification
+(``run_walk(WalkSpec.build(..., sensor_nan=[(2.0, 2.05)], sensor_dropout=[(3.0, 3.1)]))``):
 during a ``nan`` window every reading (IMU, encoders, foot force/torque sensors) is NaN;
 during a ``dropout`` window no reading arrives. The control loop checks the readings at its
 boundary (:func:`readings_are_finite`): a bad or missing one is a sensor fault, the
