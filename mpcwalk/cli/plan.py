@@ -69,8 +69,8 @@ def run(args) -> int:
     from mpcwalk.footsteps.velocity_planner import VelocityCommand
     from mpcwalk.models.lipm import LIPM
     from mpcwalk.walking.figures import plot_com_zmp, plot_top_view
-    from mpcwalk.walking.outputs import check_out_dir, write_atomic, write_json
     from mpcwalk.walking.lipm_plan import plan_walk
+    from mpcwalk.walking.outputs import check_out_dir, write_atomic, write_json
     from mpcwalk.walking.spec.plan import MAX_STEPS
 
     if not 1 <= args.steps <= MAX_STEPS:
