@@ -279,3 +279,76 @@ class PerturbationError(ConfigurationError):
             f"Perturbation.{field} must be {expected}, got {value!r}; choose a value in that "
             "range (Perturbation() is the robot as modelled)."
         )
+
+
+class SimulationUnstable(MpcwalkError, RuntimeError):
+    """MuJoCo's integration diverged (non-finite or huge accelerations)."""
+
+    def __init__(self, time: float, timestep: float) -> None:
+        self.time = time
+        super().__init__(
+            f"The MuJoCo simulation diverged at t = {time:.3f} s (bad accelerations, positions "
+            f"or velocities); lower the physics time step (now {timestep:g} s) or the actuator "
+            "gains, or check the joint targets for jumps."
+        )
+
+
+class RenderingUnavailable(MpcwalkError, RuntimeError):
+    """No headless OpenGL backend works on this machine, so no video can be rendered."""
+
+    def __init__(self, failures: dict[str, str]) -> None:
+        self.failures = dict(failures)
+        tried = "; ".join(f"{name}: {why}" for name, why in self.failures.items())
+        super().__init__(
+            f"Cannot render offscreen: no OpenGL backend works here ({tried}). Enable one: "
+            "EGL with a GPU driver or Mesa (Debian/Ubuntu: `apt-get install libegl1 libgl1 "
+            "libegl-mesa0`), or software OSMesa (`apt-get install libosmesa6`) and start "
+            "Python with MUJOCO_GL=osmesa; or run without --video."
+        )
+
+
+class VideoDependencyMissing(MpcwalkError, ImportError):
+    """The MP4 encoder (``imageio-ffmpeg``) is not installed."""
+
+    def __init__(self) -> None:
+        super().__init__(
+            "Writing MP4 videos needs the package imageio-ffmpeg (it ships an ffmpeg binary); "
+            "install it with `pip install imageio-ffmpeg`, or run without --video."
+        )
+
+
+class PushFormatError(MpcwalkError, ValueError):
+    """A push string is not ``"T,DURATION,FX,FY,FZ"`` (five numbers, duration > 0)."""
+
+    def __init__(self, text: str, problem: str) -> None:
+        self.text = text
+        self.problem = problem
+        super().__init__(
+            f"Push '{text}' is malformed: {problem}. Expected 'T,DURATION,FX,FY,FZ': start "
+            "time [s] >= 0, duration [s] > 0 and the force [N] in the world frame, e.g. "
+            "'3.0,0.05,10,5,0'."
+        )
+
+
+class LegUnreachable(MpcwalkError, ValueError):
+    """A sole target is farther from (or closer to) the hip than the leg can reach.
+
+    Attributes:
+        side: ``"left"`` or ``"right"``.
+        distance: Distance from the hip centre to the ankle of the target, in [m].
+        leg_length: Largest reach, thigh + shank, in [m].
+        minimum_length: Smallest reach, |thigh - shank|, in [m].
+    """
+
+    def __init__(
+        self, side: str, distance: float, leg_length: float, minimum_length: float
+    ) -> None:
+        self.side, self.distance = side, distance
+        self.leg_length, self.minimum_length = leg_length, minimum_length
+        where = "beyond the leg length" if distance > leg_length else "closer than the minimum"
+        limit = leg_length if distance > leg_length else minimum_length
+        super().__init__(
+            f"The {side} sole target puts the ankle {distance:.4f} m from the hip centre, "
+            f"{where} {limit:.4f} m (thigh + shank = {leg_length:.4f} m); bring the target "
+            "closer to the hip (lower the torso or shorten the step)."
+        )

@@ -4,10 +4,10 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from mpcwalk.exceptions import ConfigurationError, MpcwalkError
+from mpcwalk.exceptions import ConfigurationError, LegUnreachable, MpcwalkError
 from mpcwalk.footsteps.footstep import Side
 from mpcwalk.ik import IKTargets, WholeBodyIK
-from mpcwalk.ik.leg_ik import AnalyticLegIK, LegUnreachable
+from mpcwalk.ik.leg_ik import AnalyticLegIK
 from mpcwalk.robot.loading import load_robot
 
 

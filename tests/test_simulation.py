@@ -7,18 +7,20 @@ import pytest
 from conftest import get_robot
 
 from mpcwalk.estimation import EstimatedState
-from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.exceptions import (
+    ConfigurationError,
+    PushFormatError,
+    RenderingUnavailable,
+    SimulationUnstable,
+    VideoDependencyMissing,
+)
 from mpcwalk.models.support_polygon import SupportPolygon, foot_rectangle
 from mpcwalk.robot import SensorReadings, robot_names
 from mpcwalk.sim import (
     ExternalForce,
     FallDetector,
-    PushFormatError,
-    RenderingUnavailable,
     SensorModel,
     Simulation,
-    SimulationUnstable,
-    VideoDependencyMissing,
     VideoRecorder,
     parse_push,
     quaternion_to_rpy,

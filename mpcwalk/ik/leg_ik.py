@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from mpcwalk.exceptions import ConfigurationError, MpcwalkError
+from mpcwalk.exceptions import ConfigurationError, LegUnreachable
 from mpcwalk.footsteps.footstep import Side
 
 _AXES = (
@@ -33,30 +33,6 @@ _AXES = (
     "JointModelRX",
 )
 _TOLERANCE = 1e-12
-
-
-class LegUnreachable(MpcwalkError, ValueError):
-    """A sole target is farther from (or closer to) the hip than the leg can reach.
-
-    Attributes:
-        side: ``"left"`` or ``"right"``.
-        distance: Distance from the hip centre to the ankle of the target, in [m].
-        leg_length: Largest reach, thigh + shank, in [m].
-        minimum_length: Smallest reach, |thigh - shank|, in [m].
-    """
-
-    def __init__(
-        self, side: str, distance: float, leg_length: float, minimum_length: float
-    ) -> None:
-        self.side, self.distance = side, distance
-        self.leg_length, self.minimum_length = leg_length, minimum_length
-        where = "beyond the leg length" if distance > leg_length else "closer than the minimum"
-        limit = leg_length if distance > leg_length else minimum_length
-        super().__init__(
-            f"The {side} sole target puts the ankle {distance:.4f} m from the hip centre, "
-            f"{where} {limit:.4f} m (thigh + shank = {leg_length:.4f} m); bring the target "
-            "closer to the hip (lower the torso or shorten the step)."
-        )
 
 
 @dataclass(frozen=True)

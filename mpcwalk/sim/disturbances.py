@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from mpcwalk.exceptions import ConfigurationError, MpcwalkError
+from mpcwalk.exceptions import ConfigurationError, PushFormatError
 
 TORSO = "torso"
 """Body name meaning the robot's torso frame (``robot.torso_frame``)."""
@@ -22,19 +22,6 @@ BASE = "base"
 
 _PUSH_FIELDS = ("T", "DURATION", "FX", "FY", "FZ")
 _TIME_TOLERANCE = 1e-9  # [s] so that windows on the time-step grid are half-open exactly
-
-
-class PushFormatError(MpcwalkError, ValueError):
-    """A push string is not ``"T,DURATION,FX,FY,FZ"`` (five numbers, duration > 0)."""
-
-    def __init__(self, text: str, problem: str) -> None:
-        self.text = text
-        self.problem = problem
-        super().__init__(
-            f"Push '{text}' is malformed: {problem}. Expected 'T,DURATION,FX,FY,FZ': start "
-            "time [s] >= 0, duration [s] > 0 and the force [N] in the world frame, e.g. "
-            "'3.0,0.05,10,5,0'."
-        )
 
 
 def _vector3(value, name: str) -> np.ndarray:

@@ -19,34 +19,10 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from mpcwalk.exceptions import ConfigurationError, MpcwalkError
+from mpcwalk.exceptions import ConfigurationError, RenderingUnavailable, VideoDependencyMissing
 
 BACKENDS = ("egl", "osmesa")
 """Headless OpenGL backends, in the order they are tried."""
-
-
-class RenderingUnavailable(MpcwalkError, RuntimeError):
-    """No headless OpenGL backend works on this machine, so no video can be rendered."""
-
-    def __init__(self, failures: dict[str, str]) -> None:
-        self.failures = dict(failures)
-        tried = "; ".join(f"{name}: {why}" for name, why in self.failures.items())
-        super().__init__(
-            f"Cannot render offscreen: no OpenGL backend works here ({tried}). Enable one: "
-            "EGL with a GPU driver or Mesa (Debian/Ubuntu: `apt-get install libegl1 libgl1 "
-            "libegl-mesa0`), or software OSMesa (`apt-get install libosmesa6`) and start "
-            "Python with MUJOCO_GL=osmesa; or run without --video."
-        )
-
-
-class VideoDependencyMissing(MpcwalkError, ImportError):
-    """The MP4 encoder (``imageio-ffmpeg``) is not installed."""
-
-    def __init__(self) -> None:
-        super().__init__(
-            "Writing MP4 videos needs the package imageio-ffmpeg (it ships an ffmpeg binary); "
-            "install it with `pip install imageio-ffmpeg`, or run without --video."
-        )
 
 
 @functools.lru_cache(maxsize=1)

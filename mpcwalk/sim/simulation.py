@@ -14,7 +14,7 @@ from collections.abc import Iterable
 import mujoco
 import numpy as np
 
-from mpcwalk.exceptions import ConfigurationError, MpcwalkError
+from mpcwalk.exceptions import ConfigurationError, SimulationUnstable
 from mpcwalk.robot.ground import Ground
 from mpcwalk.robot.robot import Robot
 from mpcwalk.sim.contacts import ContactEstimator
@@ -30,18 +30,6 @@ _UNSTABLE_WARNINGS = (
     mujoco.mjtWarning.mjWARN_BADQPOS,
     mujoco.mjtWarning.mjWARN_BADQVEL,
 )
-
-
-class SimulationUnstable(MpcwalkError, RuntimeError):
-    """MuJoCo's integration diverged (non-finite or huge accelerations)."""
-
-    def __init__(self, time: float, timestep: float) -> None:
-        self.time = time
-        super().__init__(
-            f"The MuJoCo simulation diverged at t = {time:.3f} s (bad accelerations, positions "
-            f"or velocities); lower the physics time step (now {timestep:g} s) or the actuator "
-            "gains, or check the joint targets for jumps."
-        )
 
 
 def make_mj_data(robot: Robot, q: np.ndarray | None = None) -> mujoco.MjData:

@@ -20,9 +20,9 @@ from mpcwalk.control.controller import WalkingController
 from mpcwalk.control.faults import FaultMonitor
 from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.estimation.estimator import Estimator
-from mpcwalk.exceptions import ControllerStopped
+from mpcwalk.exceptions import ControllerStopped, SimulationUnstable
 from mpcwalk.robot.robot import Robot
-from mpcwalk.sim import FallDetector, FallStatus, Simulation, SimulationUnstable
+from mpcwalk.sim import FallDetector, FallStatus, Simulation
 from mpcwalk.sim.sensor_faults import SensorFaults, readings_are_finite
 from mpcwalk.walking.log import WalkLog
 from mpcwalk.walking.metrics import WalkMetrics, sanity_warnings
