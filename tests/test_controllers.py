@@ -11,7 +11,7 @@ from conftest import get_robot, walk
 from mpcwalk.cli import build_parser
 from mpcwalk.cli import main as cli_main
 from mpcwalk.cli.walk_options import spec_from_args
-from mpcwalk.control.stabilizers.paper_a import PaperAStateMachine
+from mpcwalk.control.stabilizers.footstep_reaiming import FootstepReaiming
 from mpcwalk.exceptions import ConfigurationError, NotRegistered
 from mpcwalk.footsteps.footstep import StepTiming
 from mpcwalk.sim import parse_push
@@ -167,7 +167,7 @@ def test_state_machine_takes_the_robots_rectangle_at_reset():
         robot = get_robot(name)
         plan = plan_walk_footsteps(robot, command=VelocityCommand(0.05, 0.0, 0.0), nb_steps=2)
         schedule = ContactSchedule(plan, FootGeometry(*robot.sole_size))
-        machine = PaperAStateMachine()
+        machine = FootstepReaiming()
         machine.reset(stabilizer_input(robot, schedule, t=0.0))
         assert machine.rectangle == robot.leg_limits.rectangle()
 

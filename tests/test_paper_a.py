@@ -9,7 +9,7 @@ from stabilizer_inputs import estimated_state, foot, stabilizer_input
 
 from mpcwalk.control.stabilizers import Stabilizer, StabilizerChain, make_stabilizer
 from mpcwalk.control.stabilizers.ankle_imu import AnkleImuStabilizer
-from mpcwalk.control.stabilizers.paper_a import GaitState, PaperAStateMachine
+from mpcwalk.control.stabilizers.footstep_reaiming import FootstepReaiming, GaitState
 from mpcwalk.exceptions import ConfigurationError, FootstepFileError, InfeasibleStep
 from mpcwalk.experiments.paper_a import (
     PAPER_A_ROW,
@@ -45,7 +45,7 @@ def _schedule(nb_steps=4, T=1.0):
 
 def test_state_machine_cycles_through_paper_a_states():
     schedule = _schedule(nb_steps=4, T=1.0)
-    machine = PaperAStateMachine()
+    machine = FootstepReaiming()
     machine.schedule = schedule
     for t in np.arange(0.0, schedule.duration, 0.01):
         machine.update(float(t))
@@ -70,13 +70,13 @@ def test_state_machine_cycles_through_paper_a_states():
 
 
 def test_state_machine_refuses_to_go_back_in_time():
-    machine = PaperAStateMachine()
+    machine = FootstepReaiming()
     machine.schedule = _schedule()
     assert machine.update(1.1) is GaitState.LIFT_RIGHT
     with pytest.raises(ConfigurationError, match="cannot go from 'lift right' to 'begin'"):
         machine.update(0.2)
     # skipping a state (a tick longer than half a step) is refused too
-    fresh = PaperAStateMachine()
+    fresh = FootstepReaiming()
     fresh.schedule = machine.schedule
     fresh.update(1.1)
     with pytest.raises(ConfigurationError, match="from 'lift right' to 'lift left'"):
@@ -85,7 +85,7 @@ def test_state_machine_refuses_to_go_back_in_time():
 
 def test_reaim_from_measured_support_corrects_drift():
     schedule = _schedule(nb_steps=2)
-    machine = PaperAStateMachine()
+    machine = FootstepReaiming()
     machine.schedule = schedule
     planned_support = schedule.plan.support_foot(0)
     drift = np.array([0.03, -0.01, 0.0])
@@ -105,7 +105,7 @@ def test_reaiming_stabilizer_works_from_a_hand_built_input():
     """No controller: the state machine reads the measured support sole of a typed input and
     moves the swing foot's and the CoM's targets by the landing offset."""
     robot, schedule = get_robot("atlas-like"), _schedule(nb_steps=2)
-    machine = PaperAStateMachine(yaw_source="sole")
+    machine = FootstepReaiming(yaw_source="sole")
     chain = StabilizerChain([machine, Stabilizer()])
     t = schedule.walk_start + 0.3  # step 0: the right foot swings, the left one supports
     drift = np.array([0.03, -0.01, 0.0])
@@ -215,7 +215,7 @@ def test_paper_a_gait_walks_with_ankle_imu():
     assert not result.fall.fell
     assert result.metrics.steps_completed == 3
     assert result.metrics.foot_position_error_cm_max < PAPER_A_ROW["position_error_max_cm"]
-    assert result.config.stabilizer == "paper-a+ankle-imu"
+    assert result.config.stabilizer == "reaim+ankle-imu"
 
 
 @pytest.mark.slow
@@ -255,10 +255,10 @@ def test_walk_cli_builds_paper_a_stabilizer():
             "unused",
         ]
     )
-    assert _stabilizer(args).name == "paper-a+ankle-imu"
+    assert _stabilizer(args).name == "reaim+ankle-imu"
     assert _swing_profile(args) == "ctraj"
     args = parser.parse_args(["walk", "--path", str(STRAIGHT), "--out", "unused"])
-    assert _stabilizer(args).name == "paper-a" and _swing_profile(args) == "cosine"
+    assert _stabilizer(args).name == "reaim" and _swing_profile(args) == "cosine"
     args = parser.parse_args(["walk", "--path", str(STRAIGHT), "--no-reaim", "--out", "unused"])
     assert _stabilizer(args) is None
     args = parser.parse_args(["walk", "--out", "unused"])

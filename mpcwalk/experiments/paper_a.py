@@ -2,8 +2,8 @@
 
 Every controller walks the same robot (``atlas-like``) on the same path files with paper A's
 state machine re-aiming each step from the measured support foot
-(:class:`~mpcwalk.control.stabilizers.paper_a.PaperAStateMachine`); they differ in the pattern generator, the
-stabilizer and the timing:
+(:class:`~mpcwalk.control.stabilizers.footstep_reaiming.FootstepReaiming`); they differ in
+the pattern generator, the stabilizer and the timing:
 
 - paper A's gait: the static CoM generator with the ankle strategy and IMU correction
   (:class:`~mpcwalk.control.stabilizers.ankle_imu.AnkleImuStabilizer`), at 12 s per step and at the
@@ -24,7 +24,7 @@ import numpy as np
 
 from mpcwalk.control.stabilizers import Stabilizer, StabilizerChain
 from mpcwalk.control.stabilizers.ankle_imu import AnkleImuStabilizer
-from mpcwalk.control.stabilizers.paper_a import PaperAStateMachine
+from mpcwalk.control.stabilizers.footstep_reaiming import FootstepReaiming
 from mpcwalk.footsteps.footstep import Side, wrap_angle
 from mpcwalk.robot.package_data import EXPERIMENT_DATA, package_data_dir
 from mpcwalk.walking import markdown
@@ -117,7 +117,7 @@ def make_stabilizer(spec: ControllerSpec) -> StabilizerChain | None:
     """State machine (re-aiming) and, for paper A's gait, the ankle-IMU stabilizer."""
     parts: list[Stabilizer] = []
     if spec.reaim:
-        parts.append(PaperAStateMachine(yaw_source="imu"))
+        parts.append(FootstepReaiming(yaw_source="imu"))
     if spec.ankle_imu:
         parts.append(AnkleImuStabilizer())
     return StabilizerChain(parts) if parts else None

@@ -27,15 +27,9 @@ def build_stabilizer(names: Sequence[str]) -> Stabilizer | None:
     Raises:
         NotRegistered: An unknown stabilizer name.
     """
-    parts = [_reaim() if name == "reaim" else make_stabilizer(name) for name in names]
+    parts = [make_stabilizer(name) for name in names]
     chain = [part for part in parts if part is not None]
     return StabilizerChain(chain) if chain else None
-
-
-def _reaim() -> Stabilizer:
-    from mpcwalk.control.stabilizers.paper_a import PaperAStateMachine
-
-    return PaperAStateMachine(yaw_source="imu")
 
 
 def check_controller(spec: ControllerSpec) -> None:

@@ -6,7 +6,7 @@ has two hooks, both optional (identity by default):
 
 - :meth:`Stabilizer.adjust_targets`: move the feet, CoM and torso-yaw targets of the IK
   (paper A's re-aiming of each step from the measured support foot,
-  :mod:`mpcwalk.control.stabilizers.paper_a`);
+  :mod:`mpcwalk.control.stabilizers.footstep_reaiming`);
 - :meth:`Stabilizer.adjust_joint_targets`: add offsets to the servo targets (paper A's ankle
   strategy and IMU correction, :mod:`mpcwalk.control.stabilizers.ankle_imu`; paper M's gyro
   feedback, :mod:`mpcwalk.control.stabilizers.gyro`).

@@ -1,19 +1,20 @@
-"""Paper A's walking state machine: begin, lift left, lower left, lift right, lower right.
+"""Footstep re-aiming: every step re-aimed from the measured support foot (paper A, sec. 3.3).
 
-The state follows the contact schedule of a footstep path: ``BEGIN`` while both feet stand
+Paper A walks with a state machine (begin, lift left, lower left, lift right, lower right):
+the state follows the contact schedule of a footstep path: ``BEGIN`` while both feet stand
 before the first step, then for each step ``LIFT_<side>`` from the start of the step to the
 middle of its single support (weight shift and lift) and ``LOWER_<side>`` until the end of
 the step (lowering and weight transfer), and ``DONE`` after the last step.
 
-As a :class:`~mpcwalk.control.stabilizers.base.Stabilizer` it re-aims every step (paper A, sec. 3.3): when
-the single support of step ``k`` begins, the step's global target is taken into the frame of
-the *measured* support foot (its yaw from the IMU, or from the sole), clamped into the
-reachability rectangle, and the landing is carried into the controller's kinematic reference
-frame through the support foot (``L_ref = S_ref S_meas^-1 L``). Each foot keeps the offset
-``L_ref - L`` of its last landing; the swing foot moves from its lift offset to its landing
-offset with paper M's ``h(phi)``, and the CoM and torso-yaw targets move with the mean offset
-of the feet. The measured drift of the support foot is therefore corrected at every step and
-does not accumulate.
+As a :class:`~mpcwalk.control.stabilizers.base.Stabilizer` (registered as ``"reaim"``) it
+re-aims every step: when the single support of step ``k`` begins, the step's global target
+is taken into the frame of the *measured* support foot (its yaw from the IMU, or from the
+sole), clamped into the reachability rectangle, and the landing is carried into the
+controller's kinematic reference frame through the support foot (``L_ref = S_ref S_meas^-1
+L``). Each foot keeps the offset ``L_ref - L`` of its last landing; the swing foot moves from
+its lift offset to its landing offset with paper M's ``h(phi)``, and the CoM and torso-yaw
+targets move with the mean offset of the feet. The measured drift of the support foot is
+therefore corrected at every step and does not accumulate.
 """
 
 import math
@@ -59,8 +60,9 @@ def _yaw_of(rotation: np.ndarray) -> float:
     return math.atan2(rotation[1, 0], rotation[0, 0])
 
 
-class PaperAStateMachine(Stabilizer):
-    """Paper A's state machine and per-step re-aiming from the measured feet.
+class FootstepReaiming(Stabilizer):
+    """Re-aims every step from the measured support foot, following the gait's states (paper
+    A's state machine).
 
     Args:
         rectangle: Reachability rectangle of the landings around the support foot (None: the
@@ -71,7 +73,7 @@ class PaperAStateMachine(Stabilizer):
         reaim: Re-aim the steps (False: the state machine only tracks the states).
     """
 
-    name = "paper-a"
+    name = "reaim"
 
     def __init__(
         self,
@@ -134,7 +136,7 @@ class PaperAStateMachine(Stabilizer):
         if state is not self.state:
             if state not in TRANSITIONS[self.state]:
                 raise ConfigurationError(
-                    f"Paper A's state machine cannot go from '{self.state.value}' to "
+                    f"The footstep re-aiming cannot go from '{self.state.value}' to "
                     f"'{state.value}' at t = {t:g} s; times must increase."
                 )
             self.state = state
@@ -144,7 +146,7 @@ class PaperAStateMachine(Stabilizer):
     def _require_schedule(self) -> ContactSchedule:
         if self.schedule is None:
             raise ConfigurationError(
-                "PaperAStateMachine needs a schedule: call reset(inputs) or set .schedule."
+                "FootstepReaiming needs a schedule: call reset(inputs) or set .schedule."
             )
         return self.schedule
 
