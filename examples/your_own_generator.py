@@ -18,6 +18,7 @@ from mpcwalk import (
 )
 from mpcwalk.generators.mpc import MpcGenerator
 from mpcwalk.generators.registry import GENERATORS
+from mpcwalk.registry import Entry
 
 
 class DcmToSupport(PatternGenerator):
@@ -71,8 +72,8 @@ class SmoothMpc(MpcGenerator):
     )
 
 
-# in MuJoCo: registered by name (module, class), the walk runner and the command line find it
-GENERATORS[SmoothMpc.name] = (__name__, "SmoothMpc")
+# in MuJoCo: registered by name (an entry: name, summary, class), the walk runner finds it
+GENERATORS.register(Entry(SmoothMpc.name, "The linear MPC, smoother.", lambda: SmoothMpc))
 # the mpc controller (closed loop, balance, heading hold) with this generator: a "custom" one
 spec = mpcwalk.WalkSpec.build(
     "bioloid-like", generator=SmoothMpc.name, command=(0.1, 0.0, 0.0), nb_steps=4

@@ -18,6 +18,7 @@ from mpcwalk.exceptions import (
     NoSolutionFound,
     NotReset,
     SolverNotFound,
+    StabilizerNotFound,
 )
 from mpcwalk.footsteps import (
     FootGeometry,
@@ -38,6 +39,7 @@ from mpcwalk.footsteps import (
 from mpcwalk.gait import ContactSchedule, SwingFootTrajectory, ctraj, jtraj
 from mpcwalk.gait.support_margins import support_margins
 from mpcwalk.generators import (
+    GENERATORS,
     ComState,
     GeneratorOutput,
     Horizon,
@@ -88,6 +90,7 @@ _LAZY = {
     "WalkLog": "mpcwalk.walking.log",
     "FootstepReaiming": "mpcwalk.control.stabilizers.footstep_reaiming",
     "make_stabilizer": "mpcwalk.control.stabilizers",
+    "STABILIZERS": "mpcwalk.control.stabilizers",
     "GyroStabilizer": "mpcwalk.control.stabilizers.gyro",
     "ArmSwing": "mpcwalk.control.arm_swing",
 }
@@ -106,7 +109,9 @@ def __dir__() -> list[str]:
 
 
 __all__ = [
+    "GENERATORS",
     "LIPM",
+    "STABILIZERS",
     "AnalyticGenerator",
     "ArmSwing",
     "CartTable",
@@ -150,6 +155,7 @@ __all__ = [
     "Simulation",
     "SolveInfo",
     "SolverNotFound",
+    "StabilizerNotFound",
     "StaticGenerator",
     "StaticQPGenerator",
     "StepTiming",

@@ -170,6 +170,27 @@ class GeneratorNotFound(NotRegistered):
         )
 
 
+class StabilizerNotFound(NotRegistered):
+    """The requested stabilizer name is unknown."""
+
+    def __init__(
+        self,
+        name: str,
+        available: Sequence[str],
+        installable: Mapping[str, str] | None = None,
+        *,
+        install: str = "",
+    ) -> None:
+        super().__init__(
+            "stabilizer",
+            name,
+            available,
+            installable,
+            install=install,
+            list_command="mpcwalk stabilizers",
+        )
+
+
 class NoSolutionFound(MpcwalkError):
     """A QP solver returned no solution.
 

@@ -84,6 +84,6 @@ def test_all_names_are_registered():
     assert generator_names() == ["analytic", "static", "preview", "mpc", "static-qp", "mpc-steps"]
     with pytest.raises(
         GeneratorNotFound,
-        match="choose one of analytic, static, preview, mpc, static-qp, mpc-steps",
+        match="available: analytic, static, preview, mpc, static-qp, mpc-steps. \\(mpcwalk generators",
     ):
         make_generator("zmp-magic")

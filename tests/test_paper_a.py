@@ -7,10 +7,20 @@ import pytest
 from conftest import get_robot
 from stabilizer_inputs import estimated_state, foot, stabilizer_input
 
-from mpcwalk.control.stabilizers import Stabilizer, StabilizerChain, make_stabilizer
+from mpcwalk.control.stabilizers import (
+    STABILIZERS,
+    Stabilizer,
+    StabilizerChain,
+    make_stabilizer,
+)
 from mpcwalk.control.stabilizers.ankle_imu import AnkleImuStabilizer
 from mpcwalk.control.stabilizers.footstep_reaiming import FootstepReaiming, GaitState
-from mpcwalk.exceptions import ConfigurationError, FootstepFileError, InfeasibleStep
+from mpcwalk.exceptions import (
+    ConfigurationError,
+    FootstepFileError,
+    InfeasibleStep,
+    StabilizerNotFound,
+)
 from mpcwalk.experiments.paper_a import (
     PAPER_A_ROW,
     ControllerSpec,
@@ -172,10 +182,19 @@ def test_unreachable_path_names_the_line():
 
 
 def test_stabilizer_names():
-    assert make_stabilizer("none") is None
+    assert STABILIZERS.names() == ["none", "ankle-imu", "gyro", "reaim"]
+    assert make_stabilizer("none") is None and make_stabilizer(None) is None
     assert isinstance(make_stabilizer("ankle-imu"), AnkleImuStabilizer)
-    with pytest.raises(ConfigurationError, match="Unknown stabilizer 'gyros'.*ankle-imu, gyro"):
+    reaim = make_stabilizer("reaim")
+    assert isinstance(reaim, FootstepReaiming) and reaim.name == "reaim"
+    assert reaim.yaw_source == "imu" and reaim.holds_heading
+    assert make_stabilizer("reaim", yaw_source="sole").yaw_source == "sole"
+    with pytest.raises(
+        StabilizerNotFound, match=r"Unknown stabilizer 'gyros'.*ankle-imu, gyro, reaim\. \(mpcwalk"
+    ):
         make_stabilizer("gyros")
+    with pytest.raises(ConfigurationError, match="stabilizer 'gyro' takes no option 'kp'; its"):
+        make_stabilizer("gyro", kp=1.0)
     with pytest.raises(ConfigurationError, match="kp must be a non-negative number"):
         AnkleImuStabilizer(kp=-1.0)
 

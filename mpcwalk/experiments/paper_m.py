@@ -177,7 +177,7 @@ def controller_availability(
 ) -> dict[str, str | None]:
     """Name -> None if the controller can run here, else why not (unknown generator,
     stabilizer or :func:`run_walk` argument: built in parallel, not there yet)."""
-    from mpcwalk.control.stabilizers import STABILIZER_NAMES
+    from mpcwalk.control.stabilizers import STABILIZERS
     from mpcwalk.generators import generator_names
 
     parameters = inspect.signature(run_walk).parameters
@@ -189,7 +189,7 @@ def controller_availability(
             reasons[name] = f"run_walk has no argument(s) {unknown}"
         elif kwargs.get("generator", "mpc") not in generator_names():
             reasons[name] = f"no generator '{kwargs.get('generator')}'"
-        elif isinstance(stabilizer, str) and stabilizer not in STABILIZER_NAMES:
+        elif isinstance(stabilizer, str) and stabilizer not in STABILIZERS:
             reasons[name] = f"no stabilizer '{stabilizer}'"
         else:
             reasons[name] = None

@@ -6,12 +6,18 @@ from mpcwalk.generators.pattern_generator import (
     PatternGenerator,
     SolveInfo,
 )
-from mpcwalk.generators.registry import generator_class, generator_names, make_generator
+from mpcwalk.generators.registry import (
+    GENERATORS,
+    generator_class,
+    generator_names,
+    make_generator,
+)
 from mpcwalk.generators.robot_traits import RobotTraits
 from mpcwalk.generators.rollout import Rollout, rollout
 from mpcwalk.models.com_state import ComState
 
 __all__ = [
+    "GENERATORS",
     "ComState",
     "GeneratorOutput",
     "Horizon",

@@ -1,32 +1,83 @@
 """Pattern generators by name: the names of the command line and of :func:`make_generator`.
 
-Each generator module is imported when its name is first asked for, so that naming a
-closed form does not load the QP back-ends. A new generator is one line of
-:data:`GENERATORS` and a :class:`~mpcwalk.generators.pattern_generator.PatternGenerator`
-subclass whose ``name`` is that key.
+:data:`GENERATORS` is one :class:`~mpcwalk.registry.Registry`: each generator module is
+imported when its name is first asked for, so that naming a closed form does not load the QP
+back-ends. A new generator is one :class:`~mpcwalk.registry.Entry` of :data:`GENERATORS` and
+a :class:`~mpcwalk.generators.pattern_generator.PatternGenerator` subclass whose ``name`` is
+that entry's name.
 """
 
 import importlib
 import inspect
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 from mpcwalk.exceptions import ConfigurationError, GeneratorNotFound
 from mpcwalk.generators.pattern_generator import PatternGenerator
+from mpcwalk.registry import Entry, Registry
 
-#: Generator name -> (module, class). Imported on demand.
-GENERATORS: dict[str, tuple[str, str]] = {
-    "analytic": ("mpcwalk.generators.analytic", "AnalyticGenerator"),
-    "static": ("mpcwalk.generators.static", "StaticGenerator"),
-    "preview": ("mpcwalk.generators.preview", "PreviewGenerator"),
-    "mpc": ("mpcwalk.generators.mpc", "MpcGenerator"),
-    "static-qp": ("mpcwalk.generators.static_qp", "StaticQPGenerator"),
-    "mpc-steps": ("mpcwalk.generators.mpc_steps", "FootstepMpcGenerator"),
-}
+
+def _class(module: str, name: str) -> Callable[[], type[PatternGenerator]]:
+    """Loader of the class ``name`` of ``mpcwalk.generators.<module>``."""
+
+    def load() -> type[PatternGenerator]:
+        generator: type[PatternGenerator] = getattr(
+            importlib.import_module(f"mpcwalk.generators.{module}"), name
+        )
+        return generator
+
+    return load
+
+
+def _not_found(
+    name: str, available: Sequence[str], installable: Mapping[str, str], install: str
+) -> GeneratorNotFound:
+    return GeneratorNotFound(name, available, installable, install=install)
+
+
+#: The pattern generators by name, in the order the command line lists them.
+GENERATORS: Registry[type[PatternGenerator]] = Registry(
+    "pattern generator",
+    [
+        Entry(
+            "analytic",
+            "Closed-form LIPM CoM, step by step, open loop (paper M).",
+            _class("analytic", "AnalyticGenerator"),
+        ),
+        Entry(
+            "static",
+            "CoM above the support foot in single support, quintic shifts in double support.",
+            _class("static", "StaticGenerator"),
+        ),
+        Entry(
+            "preview",
+            "Kajita's ZMP preview control following the schedule's ZMP reference.",
+            _class("preview", "PreviewGenerator"),
+        ),
+        Entry(
+            "mpc",
+            "Wieber-style linear MPC: ZMP tracking with ZMP constraints.",
+            _class("mpc", "MpcGenerator"),
+        ),
+        Entry(
+            "static-qp",
+            "The static gait (paper A) as a receding-horizon QP.",
+            _class("static_qp", "StaticQPGenerator"),
+        ),
+        Entry(
+            "mpc-steps",
+            "Linear MPC that also places the next footsteps (Herdt et al. 2010).",
+            _class("mpc_steps", "FootstepMpcGenerator"),
+        ),
+    ],
+    list_command="mpcwalk generators",
+    not_found=_not_found,
+)
 
 
 def generator_names() -> list[str]:
     """Names accepted by :func:`make_generator`."""
-    return list(GENERATORS)
+    return GENERATORS.names()
 
 
 def generator_class(name: str) -> type[PatternGenerator]:
@@ -35,11 +86,7 @@ def generator_class(name: str) -> type[PatternGenerator]:
     Raises:
         GeneratorNotFound: Unknown name (the message lists the known ones).
     """
-    if name not in GENERATORS:
-        raise GeneratorNotFound(name, generator_names())
-    module, cls = GENERATORS[name]
-    generator: type[PatternGenerator] = getattr(importlib.import_module(module), cls)
-    return generator
+    return GENERATORS.load(name)
 
 
 def make_generator(name: str, **kwargs: Any) -> PatternGenerator:
@@ -55,8 +102,9 @@ def make_generator(name: str, **kwargs: Any) -> PatternGenerator:
     return cls(**kwargs)
 
 
-def check_options(cls: type, options: dict[str, Any], what: str) -> None:
-    """Refuse keywords that ``cls``'s constructor does not take, naming the valid ones."""
+def check_options(cls: Callable[..., Any], options: dict[str, Any], what: str) -> None:
+    """Refuse keywords that ``cls`` (a class or a factory) does not take, naming the valid
+    ones."""
     parameters = inspect.signature(cls).parameters
     if any(p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters.values()):
         return
