@@ -1,6 +1,7 @@
 """Read-only arrays: the snapshots and references that results and states hand out."""
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -56,10 +57,12 @@ def checked_number(
     low_inclusive: bool = True,
     unit: str = "",
     fix: str = "",
+    error: Callable[[str], Exception] | None = None,
 ) -> float:
     """``value`` as a float when it is a real number within ``[low, high]`` (``(low,
     high]`` without ``low_inclusive``); else a ConfigurationError that says what was expected,
-    what came and ``fix``. Strings and booleans are refused, not coerced."""
+    what came and ``fix`` (or the error ``error`` builds from what was expected, e.g. ``"a
+    number >= 0"``). Strings and booleans are refused, not coerced."""
     from mpcwalk.exceptions import ConfigurationError
 
     unit_text = f" {unit}" if unit else ""
@@ -80,5 +83,7 @@ def checked_number(
         above = low is None or (number >= low if low_inclusive else number > low)
         if above and (high is None or number <= high):
             return number
+    if error is not None:
+        raise error(expected)
     suffix = f"; {fix}" if fix else ""
     raise ConfigurationError(f"{name} must be {expected}, got {value!r}{suffix}.")

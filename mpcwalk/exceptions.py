@@ -267,39 +267,23 @@ class PackageDataNotFound(MpcwalkError, FileNotFoundError):
         )
 
 
-class SensorModelError(ConfigurationError):
-    """A sensor model has a noise, bias, resolution or latency outside its range.
+class SimulationModelError(ConfigurationError):
+    """A figure of the simulated world lies outside its range: a noise, bias, resolution or
+    latency of the sensor model (:class:`~mpcwalk.sim.sensing.model.SensorModel`), or a
+    trunk mass, CoM offset, friction or servo strength of the model mismatch
+    (:class:`~mpcwalk.sim.model_mismatch.ModelMismatch`).
 
     Attributes:
+        model: The class of the figure (``"SensorModel"``, ``"ModelMismatch"``).
         field: Name of the offending field.
         value: The value it was given.
     """
 
-    def __init__(self, field: str, value: Any, expected: str) -> None:
+    def __init__(self, model: str, field: str, value: Any, expected: str, fix: str) -> None:
+        self.model = model
         self.field = field
         self.value = value
-        super().__init__(
-            f"SensorModel.{field} must be {expected}, got {value!r}; fix it, or start from "
-            "SensorModel.for_robot(robot) and use scaled(x) or with_latency(n)."
-        )
-
-
-class PerturbationError(ConfigurationError):
-    """A perturbation of the simulated robot (mass, CoM offset, friction, servo strength)
-    lies outside its range.
-
-    Attributes:
-        field: Name of the offending field.
-        value: The value it was given.
-    """
-
-    def __init__(self, field: str, value: Any, expected: str) -> None:
-        self.field = field
-        self.value = value
-        super().__init__(
-            f"Perturbation.{field} must be {expected}, got {value!r}; choose a value in that "
-            "range (Perturbation() is the robot as modelled)."
-        )
+        super().__init__(f"{model}.{field} must be {expected}, got {value!r}; {fix}.")
 
 
 class SimulationUnstable(MpcwalkError, RuntimeError):

@@ -14,7 +14,7 @@ from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side, StepTiming
 from mpcwalk.footsteps.velocity_planner import VelocityCommand
 from mpcwalk.generators import make_generator
 from mpcwalk.sim import parse_push
-from mpcwalk.sim.sensor_faults import SensorFaults
+from mpcwalk.sim.sensing.faults import SensorFaults
 from mpcwalk.walking.runner import run_walk
 from mpcwalk.walking.spec import WalkSpec
 

@@ -283,8 +283,8 @@ def test_walk_world_options_map_onto_the_spec():
         (["--noise-scale", "-1"], "noise_scale must be a finite number >= 0"),
         (["--latency", "0.015"], "latency = 0.015 s is not a multiple of the control period"),
         (["--ideal", "--noise-scale", "2"], "ideal sensors have no noise and no latency"),
-        (["--mass-scale", "0"], r"Perturbation.mass_scale must be a number in [0.1, 10]"),
-        (["--friction", "-1"], r"Perturbation.friction must be a number in [0.01, 10]"),
+        (["--mass-scale", "0"], r"ModelMismatch.mass_scale must be a number in [0.1, 10]"),
+        (["--friction", "-1"], r"ModelMismatch.friction must be a number in [0.01, 10]"),
         (["--seed", "-2"], "seed must be an integer >= 0"),
     ],
 )

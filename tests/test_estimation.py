@@ -1,7 +1,7 @@
 """The state estimator and its parts: attitude, contacts, joint velocities, base, kinematics.
 
 Readings come from two sources: a standing robot's exact readings computed with Pinocchio
-(then corrupted by the robot's sensor model, :class:`~mpcwalk.sim.sensor_simulator.
+(then corrupted by the robot's sensor model, :class:`~mpcwalk.sim.sensing.simulator.
 SensorSimulator`), and short MuJoCo walks (``state.sensors``), compared with the simulator's
 ground truth (``state.q``, ``state.oracle.com``: MuJoCo's ``subtree_com``).
 """
@@ -23,8 +23,8 @@ from mpcwalk.estimation.joint_velocity_filter import JointVelocityFilter
 from mpcwalk.estimation.kinematics import IMU_FRAME, BaseKinematics, cross_rows
 from mpcwalk.exceptions import ConfigurationError, NotReset
 from mpcwalk.robot.sensors import ForceTorqueReading, ImuReading, SensorReadings
-from mpcwalk.sim.sensor_model import SensorModel
-from mpcwalk.sim.sensor_simulator import SensorSimulator
+from mpcwalk.sim.sensing.model import SensorModel
+from mpcwalk.sim.sensing.simulator import SensorSimulator
 
 PERIOD = 0.01  # [s]
 

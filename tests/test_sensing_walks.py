@@ -11,7 +11,7 @@ from conftest import get_robot, walk
 from mpcwalk.control.controller import WalkingController
 from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.sim.sensor_model import SensorModel
+from mpcwalk.sim.sensing.model import SensorModel
 from mpcwalk.walking.runner import run_walk
 from mpcwalk.walking.spec import WorldSpec
 

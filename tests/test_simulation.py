@@ -123,7 +123,7 @@ def test_contact_wrench_and_cop_obey_newton_euler_during_a_push(name):
     robot = get_robot(name)
     force = np.array([0.02, 0.05, 0.0]) * weight(robot)
     offset = np.array([0.0, 0.0, 0.05])  # [m] above the torso frame origin
-    sim = Simulation(robot, disturbances=[ExternalForce(0.0, 10.0, force, point=offset)])
+    sim = Simulation(robot, pushes=[ExternalForce(0.0, 10.0, force, point=offset)])
     torso = sim.model.body(robot.torso_frame).id
     for tick in range(30):
         state = sim.step()
@@ -140,7 +140,7 @@ def test_lateral_force_shifts_the_cop_towards_the_push(name):
     shifts = {}
     for sign in (-1.0, 0.0, 1.0):
         force = [0.0, sign * 0.05 * weight(robot), 0.0]
-        sim = Simulation(robot, disturbances=[ExternalForce(0.0, 5.0, force)])
+        sim = Simulation(robot, pushes=[ExternalForce(0.0, 5.0, force)])
         cops = [sim.step().oracle.cop[1] for _ in range(100)]
         shifts[sign] = np.mean(cops[50:])  # mean over [0.5, 1] s: sways average out
     assert shifts[1.0] - shifts[0.0] > 0.01
@@ -151,7 +151,7 @@ def test_cop_under_a_steady_push_matches_the_static_moment_balance():
     """At rest: m g (c_y - p_y) + F_y (h - p_z) = 0, h the height where F acts."""
     robot = get_robot("bioloid-like")
     force = 0.05 * weight(robot)
-    sim = Simulation(robot, disturbances=[ExternalForce(0.0, 10.0, [0.0, force, 0.0])])
+    sim = Simulation(robot, pushes=[ExternalForce(0.0, 10.0, [0.0, force, 0.0])])
     for _ in range(300):
         state = sim.step()
     truth = state.oracle
@@ -166,7 +166,7 @@ def test_large_push_triggers_the_fall_detector(name):
     robot = get_robot(name)
     detector = FallDetector.for_robot(robot)
     sim = Simulation(
-        robot, disturbances=[ExternalForce(0.2, 0.3, [0.0, 0.5 * weight(robot), 0.0], body="base")]
+        robot, pushes=[ExternalForce(0.2, 0.3, [0.0, 0.5 * weight(robot), 0.0], body="base")]
     )
     status = None
     for _ in range(200):
@@ -231,7 +231,7 @@ def test_external_force_window_and_bad_bodies():
     with pytest.raises(ConfigurationError, match="force must be 3 finite numbers"):
         ExternalForce(0.0, 1.0, [1.0, 0.0])
     with pytest.raises(ConfigurationError, match="'nose', which the robot does not have"):
-        Simulation(get_robot("bioloid-like"), disturbances=[ExternalForce(0, 1, [1, 0, 0], "nose")])
+        Simulation(get_robot("bioloid-like"), pushes=[ExternalForce(0, 1, [1, 0, 0], "nose")])
 
 
 def test_step_targets_periods_and_settling():
@@ -298,7 +298,7 @@ def test_the_oracle_is_the_controllers_state_type_and_the_sensors_are_raw_readin
 
 def test_contact_wrenches_decoded_at_once_equal_mujocos_contact_force():
     robot = get_robot("g1")
-    sim = Simulation(robot, disturbances=[ExternalForce(0.0, 1.0, [30.0, 20.0, 0.0])])
+    sim = Simulation(robot, pushes=[ExternalForce(0.0, 1.0, [30.0, 20.0, 0.0])])
     rng = np.random.default_rng(5)
     for _ in range(20):
         sim.step(robot.q0[7:] + rng.normal(0.0, 0.03, robot.model.nq - 7))

@@ -4,7 +4,7 @@ Every robot's scene is built with a height field (a MuJoCo ``hfield``) lying on 
 switched off (no contact, hidden): :func:`add_ground_field`, called where the scene is built.
 A :class:`Ground` changes the simulator's own copy of the compiled model
 (:meth:`Ground.apply`), never the robot's models, as a
-:class:`~mpcwalk.sim.perturbation.Perturbation` does:
+:class:`~mpcwalk.sim.model_mismatch.ModelMismatch` does:
 
 - **roughness**: the height field is switched on with random bumps: heights drawn uniformly
   in ``[0, roughness]`` on a grid of :data:`BUMP_SPACING` and interpolated linearly between

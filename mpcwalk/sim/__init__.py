@@ -1,16 +1,18 @@
-"""MuJoCo simulation: position-controlled robot, sensors with noise and latency, perturbed
-worlds, ground truth, pushes, falls, video."""
+"""MuJoCo simulation: position-controlled robot, sensors with noise and latency
+(:mod:`~mpcwalk.sim.sensing`), the simulated robot's mismatch with the controller's model
+(:mod:`~mpcwalk.sim.model_mismatch`), ground truth, pushes (:mod:`~mpcwalk.sim.pushes`),
+falls, video."""
 
 from mpcwalk.robot.sensors import FootContact, ForceTorqueReading, ImuReading, SensorReadings
 from mpcwalk.sim.contacts import ContactEstimator
-from mpcwalk.sim.disturbances import BASE, TORSO, ExternalForce, parse_push
 from mpcwalk.sim.fall_detection import FallDetector, FallStatus
 from mpcwalk.sim.ground_truth import GroundTruth
-from mpcwalk.sim.measurements import SimState, quaternion_to_rpy
-from mpcwalk.sim.perturbation import Perturbation, trunk_body
+from mpcwalk.sim.model_mismatch import ModelMismatch, trunk_body
+from mpcwalk.sim.pushes import BASE, TORSO, ExternalForce, parse_push
 from mpcwalk.sim.rendering import VideoRecorder, gl_backend
-from mpcwalk.sim.sensor_model import SensorModel
-from mpcwalk.sim.sensor_simulator import SensorSimulator
+from mpcwalk.sim.sensing.model import SensorModel
+from mpcwalk.sim.sensing.simulator import SensorSimulator
+from mpcwalk.sim.sim_state import SimState, quaternion_to_rpy
 from mpcwalk.sim.simulation import Simulation, make_mj_data
 
 __all__ = [
@@ -24,7 +26,7 @@ __all__ = [
     "ForceTorqueReading",
     "GroundTruth",
     "ImuReading",
-    "Perturbation",
+    "ModelMismatch",
     "SensorModel",
     "SensorReadings",
     "SensorSimulator",

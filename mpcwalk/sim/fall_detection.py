@@ -6,7 +6,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.sim.measurements import SimState
+from mpcwalk.sim.sim_state import SimState
 
 
 @dataclass(frozen=True)

@@ -20,7 +20,7 @@ from mpcwalk.models.lipm import LIPM
 from mpcwalk.robot.robot import Robot
 from mpcwalk.robot.sensors import FootContact, ForceTorqueReading, ImuReading, SensorReadings
 from mpcwalk.sim.contacts import ContactEstimator
-from mpcwalk.sim.measurements import quaternion_to_rpy
+from mpcwalk.sim.sim_state import quaternion_to_rpy
 
 
 def _sensor_slice(model: mujoco.MjModel, name: str) -> slice:

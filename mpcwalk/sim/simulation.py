@@ -2,8 +2,8 @@
 
 Each control period the simulation reports its ground truth and what the robot senses: the
 readings of its IMU, joint encoders and foot force/torque sensors with the noise, bias,
-quantisation and latency of a :class:`~mpcwalk.sim.sensor_model.SensorModel` (the robot's own
-by default). A :class:`~mpcwalk.sim.perturbation.Perturbation` makes the simulated robot
+quantisation and latency of a :class:`~mpcwalk.sim.sensing.model.SensorModel` (the robot's own
+by default). A :class:`~mpcwalk.sim.model_mismatch.ModelMismatch` makes the simulated robot
 differ from the model the controller uses.
 """
 
@@ -18,12 +18,12 @@ from mpcwalk.exceptions import ConfigurationError, SimulationUnstable
 from mpcwalk.robot.ground import Ground
 from mpcwalk.robot.robot import Robot
 from mpcwalk.sim.contacts import ContactEstimator
-from mpcwalk.sim.disturbances import ExternalForce, resolve_body
 from mpcwalk.sim.ground_truth import GroundTruth
-from mpcwalk.sim.measurements import SimState
-from mpcwalk.sim.perturbation import Perturbation, trunk_body
-from mpcwalk.sim.sensor_model import SensorModel
-from mpcwalk.sim.sensor_simulator import SensorSimulator
+from mpcwalk.sim.model_mismatch import ModelMismatch, trunk_body
+from mpcwalk.sim.pushes import ExternalForce, resolve_body
+from mpcwalk.sim.sensing.model import SensorModel
+from mpcwalk.sim.sensing.simulator import SensorSimulator
+from mpcwalk.sim.sim_state import SimState
 
 _UNSTABLE_WARNINGS = (
     mujoco.mjtWarning.mjWARN_BADQACC,
@@ -46,7 +46,7 @@ def make_mj_data(robot: Robot, q: np.ndarray | None = None) -> mujoco.MjData:
 class Simulation:
     """One robot on a flat floor in MuJoCo, driven by position actuators.
 
-    The simulation owns a copy of ``robot.mj_model`` (changing its time step or perturbing it
+    The simulation owns a copy of ``robot.mj_model`` (changing its time step or its mismatch
     leaves the robot's model alone). Each :meth:`step` holds the joint targets during one
     control period of ``control_period / timestep`` physics steps and applies the external
     forces active at each physics step; the state it returns carries the ground truth, the
@@ -58,11 +58,11 @@ class Simulation:
         control_period: Duration of one :meth:`step` [s], a multiple of ``timestep``.
         seed: Seed of the sensor noise and biases (same seed, same readings; None: fresh
             entropy).
-        disturbances: External forces applied during their windows.
+        pushes: External forces applied during their windows.
         sensors: Sensor model (noise, bias, quantisation, latency in control periods);
             None for the robot's (:meth:`SensorModel.for_robot`), ``SensorModel.ideal()``
             for exact, immediate readings.
-        perturbation: How the simulated robot differs from ``robot`` (trunk mass and CoM,
+        model_mismatch: How the simulated robot differs from ``robot`` (trunk mass and CoM,
             friction, servo strength); None for no difference.
         ground: Tilt and bumps of the ground (:class:`~mpcwalk.robot.ground.Ground`); None
             for the level floor.
@@ -81,9 +81,9 @@ class Simulation:
         timestep: float | None = None,
         control_period: float = 0.01,
         seed: int | None = None,
-        disturbances: Iterable[ExternalForce] = (),
+        pushes: Iterable[ExternalForce] = (),
         sensors: SensorModel | None = None,
-        perturbation: Perturbation | None = None,
+        model_mismatch: ModelMismatch | None = None,
         contact_threshold: float | None = None,
         ground: Ground | None = None,
     ) -> None:
@@ -104,11 +104,11 @@ class Simulation:
             )
         self.control_period = float(control_period)
         self.nb_substeps = int(nb_substeps)
-        self.perturbation = Perturbation() if perturbation is None else perturbation
+        self.model_mismatch = ModelMismatch() if model_mismatch is None else model_mismatch
         self.trunk_body = trunk_body(self.model, robot.torso_frame)
         self.ground = Ground() if ground is None else ground
         self.ground.apply(self.model, robot)  # before the friction reaches every contact
-        self.perturbation.apply(self.model, trunk=self.trunk_body)
+        self.model_mismatch.apply(self.model, trunk=self.trunk_body)
         self.data = mujoco.MjData(self.model)
         self.sensor_model = SensorModel.for_robot(robot) if sensors is None else sensors
         self.sensors = SensorSimulator(
@@ -126,9 +126,9 @@ class Simulation:
         )
         self.contacts: ContactEstimator = self.ground_truth.contacts
         self.root_body = self.ground_truth.root_body
-        self._disturbances: list[tuple[ExternalForce, int]] = []
-        for disturbance in disturbances:
-            self.add_disturbance(disturbance)
+        self._pushes: list[tuple[ExternalForce, int]] = []
+        for push in pushes:
+            self.add_push(push)
         self._substep = 0
         self._state: SimState | None = None
         self.reset()
@@ -139,14 +139,14 @@ class Simulation:
         return self._substep * self.timestep
 
     @property
-    def disturbances(self) -> tuple[ExternalForce, ...]:
+    def pushes(self) -> tuple[ExternalForce, ...]:
         """External forces of this simulation."""
-        return tuple(force for force, _ in self._disturbances)
+        return tuple(force for force, _ in self._pushes)
 
-    def add_disturbance(self, disturbance: ExternalForce) -> None:
+    def add_push(self, push: ExternalForce) -> None:
         """Add an external force; raises ConfigurationError if its body does not exist."""
-        body_id = resolve_body(self.model, disturbance.body, self.robot.torso_frame)
-        self._disturbances.append((disturbance, body_id))
+        body_id = resolve_body(self.model, push.body, self.robot.torso_frame)
+        self._pushes.append((push, body_id))
 
     def reset(
         self,
@@ -208,9 +208,9 @@ class Simulation:
         imu_sum = np.zeros(6)  # the IMU reports its readings averaged over the period
         imu_now = self.ground_truth.imu_now
         for _ in range(self.nb_substeps):
-            if self._disturbances:
+            if self._pushes:
                 self.data.xfrc_applied[:] = 0.0
-                active = [(f, body) for f, body in self._disturbances if f.is_active(self.time)]
+                active = [(f, body) for f, body in self._pushes if f.is_active(self.time)]
                 if any(force.point is not None for force, _ in active):
                     mujoco.mj_kinematics(self.model, self.data)  # body poses of this state
                     mujoco.mj_comPos(self.model, self.data)

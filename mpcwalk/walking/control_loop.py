@@ -1,9 +1,9 @@
 """The control loop of a simulated walk: sensors, estimator, controller, simulation, log.
 
 Each tick (DESIGN.md, section 1) the controller receives the state estimated from the
-sensor readings (:attr:`~mpcwalk.sim.measurements.SimState.sensors`: noisy, biased,
+sensor readings (:attr:`~mpcwalk.sim.sim_state.SimState.sensors`: noisy, biased,
 quantised, delayed by the latency), or the simulator's ground truth
-(:attr:`~mpcwalk.sim.measurements.SimState.oracle`) when the loop has no estimator (the
+(:attr:`~mpcwalk.sim.sim_state.SimState.oracle`) when the loop has no estimator (the
 explicit ``state="oracle"``); the simulator's ground truth goes to the log and the fall
 detector only.
 """
@@ -23,7 +23,7 @@ from mpcwalk.estimation.estimator import Estimator
 from mpcwalk.exceptions import ControllerStopped, SimulationUnstable
 from mpcwalk.robot.robot import Robot
 from mpcwalk.sim import FallDetector, FallStatus, Simulation
-from mpcwalk.sim.sensor_faults import SensorFaults, readings_are_finite
+from mpcwalk.sim.sensing.faults import SensorFaults, readings_are_finite
 from mpcwalk.walking.log import WalkLog
 from mpcwalk.walking.metrics import WalkMetrics, sanity_warnings
 

@@ -41,13 +41,13 @@ class WalkConfig:
         ideal_sensors: Exact sensors without latency (``--ideal``).
         noise_scale: Factor on the noise and bias levels of the robot's sensor model.
         sensors: The figures of the sensor model the walk ran with
-            (:meth:`~mpcwalk.sim.sensor_model.SensorModel.to_dict`, SI units, the latency
+            (:meth:`~mpcwalk.sim.sensing.model.SensorModel.to_dict`, SI units, the latency
             in control periods).
         latency_s: Sensing-to-actuation latency of the controller's state [s] (0 on the
             oracle, the exact state of the current time).
         perturbation: How the simulated robot differed from the controller's model
             (``mass_scale``, ``com_offset_m``, ``friction``, ``servo_strength``; see
-            :class:`~mpcwalk.sim.perturbation.Perturbation`).
+            :class:`~mpcwalk.sim.model_mismatch.ModelMismatch`).
         seed: Seed of the sensor noise.
     """
 

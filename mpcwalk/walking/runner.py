@@ -26,7 +26,7 @@ from mpcwalk.estimation.estimator import Estimator
 from mpcwalk.footsteps.velocity_planner import VelocityCommand
 from mpcwalk.robot import Robot
 from mpcwalk.sim import FallDetector, Simulation
-from mpcwalk.sim.sensor_model import SensorModel
+from mpcwalk.sim.sensing.model import SensorModel
 from mpcwalk.walking.control_loop import ControlLoop, LoopOutcome, with_outcome
 from mpcwalk.walking.controller_builder import build_controller
 from mpcwalk.walking.metrics import compute_walk_metrics, yaw_deviation_deg
@@ -132,9 +132,9 @@ def _walk(
     simulation = Simulation(
         robot,
         control_period=period,
-        disturbances=setup.pushes,
+        pushes=setup.pushes,
         sensors=world.sensor_model(robot, period),
-        perturbation=world.perturbation,
+        model_mismatch=world.perturbation,
         seed=run.seed,
         ground=world.ground(seed=run.seed),
     )

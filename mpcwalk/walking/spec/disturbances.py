@@ -5,7 +5,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.sim.sensor_faults import SensorFaults
+from mpcwalk.sim.sensing.faults import SensorFaults
 
 Push = tuple[float, float, float, float, float]
 """A push on the torso: start [s], duration [s], world force (fx, fy, fz) [N]."""
@@ -17,7 +17,7 @@ class DisturbanceSpec:
 
     Attributes:
         pushes: Pushes on the torso (:data:`Push`); an
-            :class:`~mpcwalk.sim.disturbances.ExternalForce` on the torso is taken too.
+            :class:`~mpcwalk.sim.pushes.ExternalForce` on the torso is taken too.
         sensor_nan: ``(start, end)`` windows [s] in which every sensor reading is NaN.
         sensor_dropout: ``(start, end)`` windows [s] in which no reading arrives.
         yaw_reference: With pushes, also walk the same walk without them and report
@@ -55,7 +55,7 @@ class DisturbanceSpec:
         return SensorFaults(nan=self.sensor_nan, dropout=self.sensor_dropout)
 
     def external_forces(self) -> list:
-        """The pushes as :class:`~mpcwalk.sim.disturbances.ExternalForce` on the torso."""
+        """The pushes as :class:`~mpcwalk.sim.pushes.ExternalForce` on the torso."""
         import numpy as np
 
         from mpcwalk.sim import ExternalForce

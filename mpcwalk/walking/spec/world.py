@@ -2,13 +2,13 @@
 
 The simulated robot is a real one in these ways:
 
-- the sensors: the robot's sensor model (:class:`~mpcwalk.sim.sensor_model.SensorModel`:
+- the sensors: the robot's sensor model (:class:`~mpcwalk.sim.sensing.model.SensorModel`:
   IMU noise and bias, encoder quantisation and noise, foot force/torque noise) scaled by
   ``noise_scale``, with a sensing-to-actuation ``latency``; ``ideal`` sensors (exact and
   immediate) on request;
 - where the controller's state comes from: the estimator (from the sensors, the default) or
   the simulator's ground truth (``state="oracle"``, for comparison);
-- the :class:`~mpcwalk.sim.perturbation.Perturbation` of the simulated robot (torso mass, CoM
+- the :class:`~mpcwalk.sim.model_mismatch.ModelMismatch` of the simulated robot (torso mass, CoM
   offset, friction, servo strength), never applied to the controller's model;
 - the :class:`~mpcwalk.robot.ground.Ground` (tilt, bumps), the controller's model staying on
   a level floor.
@@ -24,11 +24,11 @@ from typing import TYPE_CHECKING, Any
 from mpcwalk.estimation.estimated_state import SOURCES
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.ground import Ground
-from mpcwalk.sim.perturbation import Perturbation
+from mpcwalk.sim.model_mismatch import ModelMismatch
 
 if TYPE_CHECKING:
     from mpcwalk.robot.robot import Robot
-    from mpcwalk.sim.sensor_model import SensorModel
+    from mpcwalk.sim.sensing.model import SensorModel
 
 
 @dataclass(frozen=True)
@@ -111,9 +111,9 @@ class WorldSpec:
         self.ground(seed=0)  # likewise
 
     @property
-    def perturbation(self) -> Perturbation:
+    def perturbation(self) -> ModelMismatch:
         """How the simulated robot differs from the controller's model."""
-        return Perturbation(
+        return ModelMismatch(
             mass_scale=self.mass_scale,
             com_offset=self.com_offset,
             friction=self.friction,
@@ -146,7 +146,7 @@ class WorldSpec:
 
     def sensor_model(self, robot: "Robot", control_period: float) -> "SensorModel":
         """The robot's sensor model in this world (noise scale, latency, ideal)."""
-        from mpcwalk.sim.sensor_model import SensorModel
+        from mpcwalk.sim.sensing.model import SensorModel
 
         model = SensorModel.for_robot(robot)
         if self.ideal:

@@ -1,7 +1,7 @@
 """How a robot's sensors differ from the truth: noise, bias, quantisation and latency.
 
 A :class:`SensorModel` holds the figures of a robot's sensors (the simulator's
-:class:`~mpcwalk.sim.sensor_simulator.SensorSimulator` applies them each control period):
+:class:`~mpcwalk.sim.sensing.simulator.SensorSimulator` applies them each control period):
 
 - the IMU: gyroscope and accelerometer white noise (as datasheet noise densities), a constant
   bias drawn once per walk and a slow random walk of that bias;
@@ -21,10 +21,12 @@ A white noise of density ``N`` read every ``dt`` seconds has the standard deviat
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from mpcwalk.exceptions import SensorModelError
+from mpcwalk._checks import checked_number
+from mpcwalk.exceptions import SimulationModelError
 
 if TYPE_CHECKING:
     from mpcwalk.robot.robot import Robot
@@ -55,6 +57,14 @@ _ACCELEROMETER_BIAS_STD = 0.05  # [m/s^2] (5 mg) residual after calibration
 _ACCELEROMETER_BIAS_RANDOM_WALK = 3.0e-3  # [m/s^3/sqrt(Hz)]
 
 
+_FIX = "fix it, or start from SensorModel.for_robot(robot) and use scaled(x) or with_latency(n)"
+
+
+def _error(field: str, value: Any) -> Callable[[str], Exception]:
+    """The error of a bad ``field``, from what was expected."""
+    return lambda expected: SimulationModelError("SensorModel", field, value, expected, _FIX)
+
+
 @dataclass(frozen=True)
 class SensorModel:
     """Noise, bias, quantisation and latency of a robot's sensors.
@@ -81,7 +91,7 @@ class SensorModel:
             [0, :data:`MAX_LATENCY`].
 
     Raises:
-        SensorModelError: A negative or non-finite figure, or a latency that is not an
+        SimulationModelError: A negative or non-finite figure, or a latency that is not an
             integer in range.
     """
 
@@ -106,18 +116,13 @@ class SensorModel:
     def __post_init__(self) -> None:
         for name in _NOISE_FIELDS:
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise SensorModelError(name, value, "a number >= 0")
-            if not (math.isfinite(value) and value >= 0.0):
-                raise SensorModelError(name, value, "a finite number >= 0")
-            object.__setattr__(self, name, float(value))
+            number = checked_number(name, value, low=0.0, error=_error(name, value))
+            object.__setattr__(self, name, number)
         latency = self.latency
         if isinstance(latency, bool) or not isinstance(latency, int):
-            raise SensorModelError("latency", latency, "a whole number of control periods")
+            raise _error("latency", latency)("a whole number of control periods")
         if not 0 <= latency <= MAX_LATENCY:
-            raise SensorModelError(
-                "latency", latency, f"between 0 and {MAX_LATENCY} control periods"
-            )
+            raise _error("latency", latency)(f"between 0 and {MAX_LATENCY} control periods")
 
     @classmethod
     def large_robot(cls) -> "SensorModel":
@@ -166,14 +171,11 @@ class SensorModel:
         exact sensors); the latency is kept.
 
         Raises:
-            SensorModelError: A negative or non-finite factor.
+            SimulationModelError: A negative or non-finite factor.
         """
-        if isinstance(factor, bool) or not isinstance(factor, (int, float)):
-            raise SensorModelError("scaled(factor)", factor, "a number >= 0")
-        if not (math.isfinite(factor) and factor >= 0.0):
-            raise SensorModelError("scaled(factor)", factor, "a finite number >= 0")
+        scale = checked_number("factor", factor, low=0.0, error=_error("scaled(factor)", factor))
         return dataclasses.replace(
-            self, **{name: getattr(self, name) * float(factor) for name in _NOISE_FIELDS}
+            self, **{name: getattr(self, name) * scale for name in _NOISE_FIELDS}
         )
 
     def with_latency(self, periods: int) -> "SensorModel":

@@ -8,10 +8,10 @@ import pinocchio as pin
 import pytest
 from conftest import get_robot
 
-from mpcwalk.exceptions import ConfigurationError, SensorModelError
+from mpcwalk.exceptions import ConfigurationError, SimulationModelError
 from mpcwalk.robot.sensors import ForceTorqueReading, ImuReading, SensorReadings
 from mpcwalk.sim import SensorModel, SensorSimulator, Simulation
-from mpcwalk.sim.sensor_model import MAX_LATENCY
+from mpcwalk.sim.sensing.model import MAX_LATENCY
 
 PERIOD = 0.01  # [s]
 
@@ -75,8 +75,11 @@ def test_scaled_multiplies_every_noise_bias_and_resolution_and_keeps_the_latency
 @pytest.mark.parametrize(
     ("figures", "match"),
     [
-        ({"gyro_noise_density": -1.0}, r"gyro_noise_density must be a finite number >= 0"),
-        ({"torque_noise_std": float("nan")}, r"torque_noise_std must be a finite number >= 0"),
+        (
+            {"gyro_noise_density": -1.0},
+            r"SensorModel.gyro_noise_density must be a number >= 0, got -1.0; fix it",
+        ),
+        ({"torque_noise_std": float("nan")}, r"torque_noise_std must be a number >= 0, got nan"),
         ({"encoder_resolution": "0.01"}, r"encoder_resolution must be a number >= 0"),
         ({"latency": 1.5}, r"latency must be a whole number of control periods, got 1.5"),
         ({"latency": -1}, rf"latency must be between 0 and {MAX_LATENCY} control periods"),
@@ -84,14 +87,16 @@ def test_scaled_multiplies_every_noise_bias_and_resolution_and_keeps_the_latency
     ],
 )
 def test_bad_figures_raise_a_named_error(figures, match):
-    with pytest.raises(SensorModelError, match=match) as error:
+    with pytest.raises(SimulationModelError, match=match) as error:
         SensorModel(**figures)
     assert error.value.field == next(iter(figures))
     assert isinstance(error.value, ConfigurationError)
 
 
 def test_bad_scale_raises():
-    with pytest.raises(SensorModelError, match=r"scaled\(factor\) must be a finite number"):
+    with pytest.raises(
+        SimulationModelError, match=r"scaled\(factor\) must be a number >= 0, got -0.5"
+    ):
         SensorModel().scaled(-0.5)
 
 

@@ -1,8 +1,8 @@
-"""How the simulated robot differs from the model the controller uses: :class:`Perturbation`.
+"""How the simulated robot differs from the model the controller uses: :class:`ModelMismatch`.
 
 A real robot's model is rarely better than 10 %: its trunk is heavier or lighter than the
 CAD says, its CoM sits elsewhere, the floor is more slippery than assumed and the servos are
-weaker or stiffer. A :class:`Perturbation` changes the simulator's own copy of the MuJoCo
+weaker or stiffer. A :class:`ModelMismatch` changes the simulator's own copy of the MuJoCo
 model (:class:`~mpcwalk.sim.simulation.Simulation` copies ``robot.mj_model``), never the
 robot's models that the controller, the IK and the estimator use.
 
@@ -11,13 +11,14 @@ The trunk is the body of ``robot.torso_frame`` in MuJoCo (``torso`` of ``bioloid
 when that frame is not a body (:func:`trunk_body`).
 """
 
-import math
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from typing import Any
 
 import mujoco
 
-from mpcwalk.exceptions import PerturbationError
+from mpcwalk._checks import checked_number
+from mpcwalk.exceptions import SimulationModelError
 
 MASS_SCALE_RANGE = (0.1, 10.0)
 """Accepted factors on the trunk mass."""
@@ -32,26 +33,21 @@ SERVO_STRENGTH_RANGE = (0.1, 10.0)
 """Accepted factors on the servo gains and torque limits."""
 
 
-def _number(field: str, value: Any, expected: str) -> float:
-    """``value`` as a finite float, or :class:`PerturbationError`."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise PerturbationError(field, value, expected)
-    if not math.isfinite(value):
-        raise PerturbationError(field, value, expected)
-    return float(value)
+_FIX = "choose a value in that range (ModelMismatch() is the robot as modelled)"
+
+
+def _error(field: str, value: Any, expected: str | None = None) -> Callable[[str], Exception]:
+    """The error of a bad ``field`` (``expected``: what the checks would say otherwise)."""
+    return lambda said: SimulationModelError("ModelMismatch", field, value, expected or said, _FIX)
 
 
 def _in_range(field: str, value: Any, bounds: tuple[float, float]) -> float:
     low, high = bounds
-    expected = f"a number in [{low:g}, {high:g}]"
-    number = _number(field, value, expected)
-    if not low <= number <= high:
-        raise PerturbationError(field, value, expected)
-    return number
+    return checked_number(field, value, low=low, high=high, error=_error(field, value))
 
 
 @dataclass(frozen=True)
-class Perturbation:
+class ModelMismatch:
     """The simulated robot's departure from the model (the default: none).
 
     Attributes:
@@ -65,7 +61,7 @@ class Perturbation:
             limits, in [0.1, 10].
 
     Raises:
-        PerturbationError: A value out of its range (the message gives the range).
+        SimulationModelError: A value out of its range (the message gives the range).
     """
 
     mass_scale: float = 1.0
@@ -77,15 +73,19 @@ class Perturbation:
         set_field = object.__setattr__
         set_field(self, "mass_scale", _in_range("mass_scale", self.mass_scale, MASS_SCALE_RANGE))
         expected = f"two numbers (dx, dy) [m] each within +-{MAX_COM_OFFSET:g} m"
+        error = _error("com_offset", self.com_offset, expected)
         try:
             offset = tuple(self.com_offset)
         except TypeError:
-            raise PerturbationError("com_offset", self.com_offset, expected) from None
+            raise error(expected) from None
         if len(offset) != 2:
-            raise PerturbationError("com_offset", self.com_offset, expected)
-        dx, dy = (_number("com_offset", value, expected) for value in offset)
-        if max(abs(dx), abs(dy)) > MAX_COM_OFFSET:
-            raise PerturbationError("com_offset", self.com_offset, expected)
+            raise error(expected)
+        dx, dy = (
+            checked_number(
+                "com_offset", value, low=-MAX_COM_OFFSET, high=MAX_COM_OFFSET, error=error
+            )
+            for value in offset
+        )
         set_field(self, "com_offset", (dx, dy))
         if self.friction is not None:
             set_field(self, "friction", _in_range("friction", self.friction, FRICTION_RANGE))
@@ -97,18 +97,18 @@ class Perturbation:
 
     @property
     def is_nominal(self) -> bool:
-        """Whether the simulated robot is the model (no perturbation)."""
-        return self == Perturbation()
+        """Whether the simulated robot is the model (no mismatch)."""
+        return self == ModelMismatch()
 
     def to_dict(self) -> dict[str, Any]:
-        """The perturbation for the ``config`` block of ``metrics.json`` (JSON types)."""
+        """The mismatch for the ``config`` block of ``metrics.json`` (JSON types)."""
         values = asdict(self)
         values["com_offset"] = list(self.com_offset)
         return values
 
     @classmethod
-    def from_dict(cls, values: dict[str, Any]) -> "Perturbation":
-        """The perturbation of :meth:`to_dict`'s output (a sweep's stored case)."""
+    def from_dict(cls, values: dict[str, Any]) -> "ModelMismatch":
+        """The mismatch of :meth:`to_dict`'s output (a sweep's stored case)."""
         values = dict(values)
         if "com_offset" in values:
             values["com_offset"] = tuple(values["com_offset"])
@@ -145,4 +145,4 @@ def trunk_body(model: mujoco.MjModel, torso_frame: str) -> int:
     return int(body) if body >= 0 else int(model.jnt_bodyid[0])
 
 
-__all__ = ["Perturbation", "trunk_body"]
+__all__ = ["ModelMismatch", "trunk_body"]

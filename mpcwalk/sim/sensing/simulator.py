@@ -2,7 +2,7 @@
 
 :class:`SensorSimulator` turns the exact readings of each control period (from the
 simulator's ground truth) into what the robot's drivers would report, following a
-:class:`~mpcwalk.sim.sensor_model.SensorModel`:
+:class:`~mpcwalk.sim.sensing.model.SensorModel`:
 
 - IMU: ``gyro = truth + bias + noise``, the bias a constant drawn at :meth:`reset` plus a
   random walk; the same for the accelerometer;
@@ -23,7 +23,7 @@ import numpy as np
 from mpcwalk._checks import freeze
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.sensors import ForceTorqueReading, ImuReading, SensorReadings
-from mpcwalk.sim.sensor_model import SensorModel
+from mpcwalk.sim.sensing.model import SensorModel
 
 
 class SensorSimulator:

@@ -1,4 +1,4 @@
-"""Perturbations of the simulated robot: trunk mass and CoM, friction, servo strength,
+"""The model mismatch of the simulated robot: trunk mass and CoM, friction, servo strength,
 applied to the simulator's model only, validated, serialisable."""
 
 import json
@@ -8,8 +8,8 @@ import pinocchio as pin
 import pytest
 from conftest import get_robot
 
-from mpcwalk.exceptions import ConfigurationError, PerturbationError
-from mpcwalk.sim import Perturbation, SensorModel, Simulation, trunk_body
+from mpcwalk.exceptions import ConfigurationError, SimulationModelError
+from mpcwalk.sim import ModelMismatch, SensorModel, Simulation, trunk_body
 
 MODEL_ARRAYS = (
     "body_mass",
@@ -23,8 +23,8 @@ MODEL_ARRAYS = (
 )
 
 
-def simulation(robot, **perturbation) -> Simulation:
-    return Simulation(robot, sensors=SensorModel.ideal(), perturbation=Perturbation(**perturbation))
+def simulation(robot, **mismatch) -> Simulation:
+    return Simulation(robot, sensors=SensorModel.ideal(), model_mismatch=ModelMismatch(**mismatch))
 
 
 def test_trunk_is_the_torso_frame_body():
@@ -124,13 +124,13 @@ def test_the_robot_the_controller_uses_is_left_alone():
 def test_no_perturbation_leaves_the_model_as_loaded():
     robot = get_robot("bioloid-like")
     sim = Simulation(robot)
-    assert sim.perturbation.is_nominal and Perturbation().is_nominal
+    assert sim.model_mismatch.is_nominal and ModelMismatch().is_nominal
     for name in MODEL_ARRAYS:
         np.testing.assert_array_equal(getattr(sim.model, name), getattr(robot.mj_model, name))
 
 
 def test_to_dict_is_json_and_round_trips():
-    perturbation = Perturbation(mass_scale=1.3, com_offset=(0.01, 0), friction=0.4)
+    perturbation = ModelMismatch(mass_scale=1.3, com_offset=(0.01, 0), friction=0.4)
     values = perturbation.to_dict()
     assert values == {
         "mass_scale": 1.3,
@@ -138,8 +138,8 @@ def test_to_dict_is_json_and_round_trips():
         "friction": 0.4,
         "servo_strength": 1.0,
     }
-    assert Perturbation.from_dict(json.loads(json.dumps(values))) == perturbation
-    assert Perturbation().to_dict()["friction"] is None
+    assert ModelMismatch.from_dict(json.loads(json.dumps(values))) == perturbation
+    assert ModelMismatch().to_dict()["friction"] is None
 
 
 @pytest.mark.parametrize(
@@ -155,9 +155,9 @@ def test_to_dict_is_json_and_round_trips():
         ({"servo_strength": -1.0}, r"servo_strength must be a number in \[0.1, 10\]"),
     ],
 )
-def test_bad_perturbations_raise_a_named_error(values, match):
-    with pytest.raises(PerturbationError, match=match) as error:
-        Perturbation(**values)
+def test_bad_mismatches_raise_a_named_error(values, match):
+    with pytest.raises(SimulationModelError, match=match) as error:
+        ModelMismatch(**values)
     assert error.value.field == next(iter(values))
     assert isinstance(error.value, ConfigurationError)
-    assert "Perturbation() is the robot as modelled" in str(error.value)
+    assert "ModelMismatch() is the robot as modelled" in str(error.value)
