@@ -56,6 +56,29 @@ def _output(values: np.ndarray, phi) -> ArrayLike:
     return float(values) if np.ndim(phi) == 0 else values
 
 
+def _raised_cosine(ratio, frequency: int):
+    """``0.5 (1 - cos(frequency pi ratio))`` of the clipped window ratio: ``h`` (frequency 1,
+    a half cosine) or ``v`` (frequency 2, a full one)."""
+    return 0.5 * (1.0 - np.cos(frequency * np.pi * ratio))
+
+
+def _raised_cosine_rate(ratio, width: float, frequency: int, step_duration: float):
+    """Time derivative of :func:`_raised_cosine` over a window of ``width`` (in phase) of a
+    step of ``step_duration`` [s], at the clipped window ratio ``ratio``."""
+    return 0.5 * frequency * np.pi / width * np.sin(frequency * np.pi * ratio) / step_duration
+
+
+def _rate_in_window(phi, phi_b: float, phi_e: float, step_duration: float, frequency: int):
+    """The checked, vectorised derivative of :func:`_raised_cosine`: zero outside single
+    support."""
+    phases, width = _window(phi, phi_b, phi_e)
+    step_duration = _check_duration(step_duration)
+    ratio = (phases - phi_b) / width
+    inside = (ratio >= 0.0) & (ratio < 1.0)
+    rate = _raised_cosine_rate(np.clip(ratio, 0.0, 1.0), width, frequency, 1.0)
+    return _output(np.where(inside, rate, 0.0) / step_duration, phi)
+
+
 @overload
 def step_interpolation(phi: float, phi_b: float, phi_e: float) -> float: ...
 @overload
@@ -76,7 +99,7 @@ def step_interpolation(phi: ArrayLike, phi_b: float, phi_e: float) -> ArrayLike:
     """
     phases, width = _window(phi, phi_b, phi_e)
     ratio = np.clip((phases - phi_b) / width, 0.0, 1.0)
-    return _output(0.5 * (1.0 - np.cos(np.pi * ratio)), phi)
+    return _output(_raised_cosine(ratio, 1), phi)
 
 
 @overload
@@ -102,12 +125,7 @@ def step_interpolation_derivative(
     Returns:
         The derivative, same shape as ``phi``; zero in double support.
     """
-    phases, width = _window(phi, phi_b, phi_e)
-    step_duration = _check_duration(step_duration)
-    ratio = (phases - phi_b) / width
-    inside = (ratio >= 0.0) & (ratio < 1.0)
-    rate = 0.5 * np.pi / width * np.sin(np.pi * np.clip(ratio, 0.0, 1.0))
-    return _output(np.where(inside, rate, 0.0) / step_duration, phi)
+    return _rate_in_window(phi, phi_b, phi_e, step_duration, 1)
 
 
 @overload
@@ -132,7 +150,7 @@ def swing_height_profile(phi: ArrayLike, phi_b: float, phi_e: float) -> ArrayLik
     phases, width = _window(phi, phi_b, phi_e)
     ratio = (phases - phi_b) / width
     inside = (ratio >= 0.0) & (ratio < 1.0)
-    values = 0.5 * (1.0 - np.cos(2.0 * np.pi * np.clip(ratio, 0.0, 1.0)))
+    values = _raised_cosine(np.clip(ratio, 0.0, 1.0), 2)
     return _output(np.where(inside, values, 0.0), phi)
 
 
@@ -159,12 +177,7 @@ def swing_height_profile_derivative(
     Returns:
         The derivative, same shape as ``phi``; zero in double support.
     """
-    phases, width = _window(phi, phi_b, phi_e)
-    step_duration = _check_duration(step_duration)
-    ratio = (phases - phi_b) / width
-    inside = (ratio >= 0.0) & (ratio < 1.0)
-    rate = np.pi / width * np.sin(2.0 * np.pi * np.clip(ratio, 0.0, 1.0))
-    return _output(np.where(inside, rate, 0.0) / step_duration, phi)
+    return _rate_in_window(phi, phi_b, phi_e, step_duration, 2)
 
 
 def step_interpolation_scalar(
@@ -176,10 +189,10 @@ def step_interpolation_scalar(
     width = phi_e - phi_b
     ratio = (phi - phi_b) / width
     clipped = min(max(ratio, 0.0), 1.0)
-    h = float(0.5 * (1.0 - np.cos(np.pi * clipped)))
+    h = float(_raised_cosine(clipped, 1))
     if not 0.0 <= ratio < 1.0:
         return h, 0.0
-    return h, float(0.5 * np.pi / width * np.sin(np.pi * clipped) / step_duration)
+    return h, float(_raised_cosine_rate(clipped, width, 1, step_duration))
 
 
 def swing_height_scalar(
@@ -192,5 +205,5 @@ def swing_height_scalar(
     if not 0.0 <= ratio < 1.0:
         return 0.0, 0.0
     clipped = min(max(ratio, 0.0), 1.0)
-    v = float(0.5 * (1.0 - np.cos(2.0 * np.pi * clipped)))
-    return v, float(np.pi / width * np.sin(2.0 * np.pi * clipped) / step_duration)
+    v = float(_raised_cosine(clipped, 2))
+    return v, float(_raised_cosine_rate(clipped, width, 2, step_duration))

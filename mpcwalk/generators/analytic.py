@@ -23,7 +23,8 @@ import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.generators.pattern_generator import GeneratorOutput, Horizon, PatternGenerator
+from mpcwalk.generators.closed_form import ClosedFormGenerator
+from mpcwalk.generators.pattern_generator import GeneratorOutput
 from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
 
@@ -253,7 +254,7 @@ def closed_form_step(
     return ClosedFormStep(x_t0, x_s, x_t1, T, t_b, t_e, w, m_d1, m_d2, k_d1, k_d2, C1, C2)
 
 
-class AnalyticGenerator(PatternGenerator):
+class AnalyticGenerator(ClosedFormGenerator):
     """Paper M's closed-form CoM, step by step, open loop.
 
     Before the first step and after the last one the CoM rests above the
@@ -274,13 +275,7 @@ class AnalyticGenerator(PatternGenerator):
     def __init__(
         self, *, lipm: LIPM = LIPM(), control_period: float = 0.01, horizon_time: float | None = 0.0
     ) -> None:
-        super().__init__(lipm=lipm, control_period=control_period)
-        if horizon_time is not None and (not np.isfinite(horizon_time) or horizon_time < 0.0):
-            raise ConfigurationError(
-                f"horizon_time must be None or a non-negative number of seconds, got "
-                f"{horizon_time!r}."
-            )
-        self.horizon_time = horizon_time
+        super().__init__(lipm=lipm, control_period=control_period, horizon_time=horizon_time)
         self.steps: list[ClosedFormStep] = []
 
     def _reset(self, schedule: ContactSchedule, initial_state: ComState) -> GeneratorOutput:
@@ -336,20 +331,3 @@ class AnalyticGenerator(PatternGenerator):
     def _make_output(self, t: float) -> GeneratorOutput:
         state = self.state_at(t)
         return self._output(t, state, horizon=self._horizon(t))
-
-    def _horizon(self, t: float) -> Horizon | None:
-        sched = self.current_schedule
-        if self.horizon_time is None:
-            k = sched.step_index(t)
-            if not 0 <= k < len(self.steps):
-                return None
-            end = sched.walk_start + (k + 1) * sched.step_duration
-        else:
-            end = t + self.horizon_time
-        n = int(np.floor((end - t) / self.control_period + 1e-9))
-        if n < 1:
-            return None
-        times = t + self.control_period * np.arange(1, n + 1)
-        states = self.evaluate(times)
-        zmp = states[:, 0] - states[:, 2] / self.lipm.omega**2
-        return Horizon(times=times, com=states[:, 0], zmp=zmp)

@@ -25,7 +25,8 @@ import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.generators.pattern_generator import GeneratorOutput, Horizon, PatternGenerator
+from mpcwalk.generators.closed_form import ClosedFormGenerator
+from mpcwalk.generators.pattern_generator import GeneratorOutput
 from mpcwalk.generators.static_timing import check_static_timing
 from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
@@ -52,7 +53,7 @@ def quintic(tau) -> np.ndarray:
     )
 
 
-class StaticGenerator(PatternGenerator):
+class StaticGenerator(ClosedFormGenerator):
     """CoM above the support foot in single support, quintic shifts in double support.
 
     Open loop: ``initial_state`` and the measured state are ignored; the CoM
@@ -86,13 +87,7 @@ class StaticGenerator(PatternGenerator):
         control_period: float = 0.01,
         horizon_time: float | None = None,
     ) -> None:
-        super().__init__(lipm=lipm, control_period=control_period)
-        if horizon_time is not None and (not np.isfinite(horizon_time) or horizon_time < 0.0):
-            raise ConfigurationError(
-                f"horizon_time must be None or a non-negative number of seconds, got "
-                f"{horizon_time!r}."
-            )
-        self.horizon_time = horizon_time
+        super().__init__(lipm=lipm, control_period=control_period, horizon_time=horizon_time)
         self.segment_starts = np.zeros(1)
         self.segment_ends = np.zeros(1)
         self.segment_from = np.zeros((1, 2))
@@ -162,20 +157,3 @@ class StaticGenerator(PatternGenerator):
 
     def _make_output(self, t: float) -> GeneratorOutput:
         return self._output(t, self.evaluate([t])[0], horizon=self._horizon(t))
-
-    def _horizon(self, t: float) -> Horizon | None:
-        sched = self.current_schedule
-        if self.horizon_time is None:
-            k = sched.step_index(t)
-            if not 0 <= k < sched.plan.nb_steps:
-                return None
-            end = sched.walk_start + (k + 1) * sched.step_duration
-        else:
-            end = t + self.horizon_time
-        n = int(np.floor((end - t) / self.control_period + 1e-9))
-        if n < 1:
-            return None
-        times = t + self.control_period * np.arange(1, n + 1)
-        states = self.evaluate(times)
-        zmp = states[:, 0] - states[:, 2] / self.lipm.omega**2
-        return Horizon(times=times, com=states[:, 0], zmp=zmp)
