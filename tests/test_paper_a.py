@@ -195,7 +195,9 @@ def test_stabilizer_names():
         make_stabilizer("gyros")
     with pytest.raises(ConfigurationError, match="stabilizer 'gyro' takes no option 'kp'; its"):
         make_stabilizer("gyro", kp=1.0)
-    with pytest.raises(ConfigurationError, match="kp must be a non-negative number"):
+    with pytest.raises(
+        ConfigurationError, match="AnkleImuStabilizer kp must be a number >= 0, got -1.0"
+    ):
         AnkleImuStabilizer(kp=-1.0)
 
 

@@ -107,3 +107,10 @@ def test_horizon_and_open_loop():
     out = gen.step()
     assert len(out.horizon.times) == 50
     np.testing.assert_allclose(out.horizon.com, gen.evaluate(out.horizon.times)[:, 0])
+
+
+@pytest.mark.parametrize("name", ["static", "analytic"])
+@pytest.mark.parametrize("horizon_time", [-0.1, float("nan"), "1"])
+def test_closed_forms_refuse_a_bad_horizon_time(name, horizon_time):
+    with pytest.raises(ConfigurationError, match=r"horizon_time must be a number >= 0 s, got"):
+        make_generator(name, horizon_time=horizon_time)

@@ -24,6 +24,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
+from mpcwalk._checks import checked_number
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.gait.swing_foot import FeetState
 from mpcwalk.robot.robot import Robot
@@ -52,14 +53,12 @@ class ArmSwing:
     """
 
     def __init__(self, robot: Robot, factor: float) -> None:
-        if isinstance(factor, bool) or not (
-            isinstance(factor, (int, float)) and math.isfinite(factor) and factor >= 0.0
-        ):
-            raise ConfigurationError(
-                f"The arm swing factor s must be a non-negative number, got {factor!r}; "
-                "paper M uses 0.8, 0 keeps the arms still."
-            )
-        self.factor = float(factor)
+        self.factor = checked_number(
+            "The arm swing factor s",
+            factor,
+            low=0.0,
+            fix="paper M uses 0.8, 0 keeps the arms still",
+        )
         model = robot.model
         data = model.createData()
         pin.forwardKinematics(model, data, robot.q0)

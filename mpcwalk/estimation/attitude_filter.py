@@ -19,6 +19,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
+from mpcwalk._checks import checked_number
 from mpcwalk.exceptions import ConfigurationError, NotReset
 
 
@@ -30,9 +31,7 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _check_non_negative(name: str, value: float, unit: str) -> float:
-    if not (math.isfinite(value) and value >= 0.0):
-        raise ConfigurationError(f"{name} must be a finite number >= 0 {unit}, got {value!r}.")
-    return float(value)
+    return checked_number(name, value, low=0.0, unit=unit)
 
 
 class AttitudeFilter:

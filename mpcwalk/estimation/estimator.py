@@ -29,6 +29,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
+from mpcwalk._checks import checked_number
 from mpcwalk.estimation.attitude_filter import AttitudeFilter, tilt_from_accelerometer
 from mpcwalk.estimation.base_estimator import BaseEstimator
 from mpcwalk.estimation.contact_detector import ContactDetector
@@ -114,9 +115,8 @@ class Estimator:
         self.gravity = self.kinematics.gravity
         self.weight = robot.total_mass * self.gravity
         self.omega = math.sqrt(self.gravity / robot.com_height)
-        if not (math.isfinite(foot_tilt_gain) and foot_tilt_gain >= 0.0):
-            raise ConfigurationError(f"foot_tilt_gain must be >= 0 rad/s, got {foot_tilt_gain!r}.")
-        self.foot_tilt_gain = float(foot_tilt_gain) if flat_ground else 0.0
+        foot_tilt_gain = checked_number("foot_tilt_gain", foot_tilt_gain, low=0.0, unit="rad/s")
+        self.foot_tilt_gain = foot_tilt_gain if flat_ground else 0.0
         self.attitude = AttitudeFilter(
             gravity=self.gravity,
             gain=attitude_gain,
@@ -130,10 +130,9 @@ class Estimator:
             robot.model.nq - 7, cutoff_frequency=joint_velocity_cutoff
         )
         if velocity_noise is None:
-            if not (math.isfinite(encoder_resolution) and encoder_resolution >= 0.0):
-                raise ConfigurationError(
-                    f"encoder_resolution must be >= 0 rad, got {encoder_resolution!r}."
-                )
+            encoder_resolution = checked_number(
+                "encoder_resolution", encoder_resolution, low=0.0, unit="rad"
+            )
             quantisation = 2.0 * robot.com_height * encoder_resolution / self.control_period
             velocity_noise = max(MIN_VELOCITY_NOISE, quantisation)
         self.base = BaseEstimator(

@@ -7,11 +7,11 @@ so a default is written once and a misspelled key is refused when the preset is 
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, fields
 from typing import Any
 
+from mpcwalk._checks import checked_number
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.leg_limits import LegLimits
 
@@ -64,14 +64,7 @@ class GaitDefaults:
                         f"[gait] {f.name} must be a positive integer, got {value!r}"
                     )
                 continue
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise ConfigurationError(
-                    f"[gait] {f.name} must be a number, got {type(value).__name__} {value!r}"
-                )
-            if not math.isfinite(value) or value < 0.0:
-                raise ConfigurationError(
-                    f"[gait] {f.name} must be finite and non-negative, got {value!r}"
-                )
+            checked_number(f"[gait] {f.name}", value, low=0.0)
         if self.step_duration <= 0.0:
             raise ConfigurationError(
                 f"[gait] step_duration must be positive, got {self.step_duration!r} s"

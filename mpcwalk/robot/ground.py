@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Any
 import mujoco
 import numpy as np
 
+from mpcwalk._checks import checked_number
 from mpcwalk.exceptions import ConfigurationError
 
 if TYPE_CHECKING:
@@ -78,15 +79,7 @@ def add_ground_field(spec: mujoco.MjSpec) -> None:
 
 
 def _number(name: str, value: Any, low: float, high: float, unit: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise ConfigurationError(
-            f"Ground.{name} must be a number in [{low:g}, {high:g}] {unit}, got {value!r}."
-        )
-    if not low <= value <= high:
-        raise ConfigurationError(
-            f"Ground.{name} must be a number in [{low:g}, {high:g}] {unit}, got {value!r}."
-        )
-    return float(value)
+    return checked_number(f"Ground.{name}", value, low=low, high=high, unit=unit)
 
 
 @dataclass(frozen=True)

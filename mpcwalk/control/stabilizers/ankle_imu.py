@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from mpcwalk._checks import checked_number
 from mpcwalk.control.stabilizers.base import Stabilizer, StabilizerInput
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Side
@@ -59,10 +60,7 @@ class AnkleImuStabilizer(Stabilizer):
             integral_limit=integral_limit,
         )
         for key, value in values.items():
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0.0):
-                raise ConfigurationError(
-                    f"AnkleImuStabilizer {key} must be a non-negative number, got {value!r}."
-                )
+            checked_number(f"AnkleImuStabilizer {key}", value, low=0.0)
         if imu_cutoff <= 0.0:
             raise ConfigurationError("AnkleImuStabilizer imu_cutoff must be positive [Hz].")
         self.kp, self.ki, self.kd = float(kp), float(ki), float(kd)

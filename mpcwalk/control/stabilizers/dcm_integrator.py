@@ -25,17 +25,12 @@ import math
 
 import numpy as np
 
+from mpcwalk._checks import checked_number
 from mpcwalk.exceptions import ConfigurationError
 
 
 def _non_negative(name: str, value: float) -> float:
-    if isinstance(value, bool) or not (
-        isinstance(value, (int, float)) and math.isfinite(value) and value >= 0.0
-    ):
-        raise ConfigurationError(
-            f"DcmIntegrator {name} must be a non-negative number, got {value!r}."
-        )
-    return float(value)
+    return checked_number(f"DcmIntegrator {name}", value, low=0.0)
 
 
 class DcmIntegrator:

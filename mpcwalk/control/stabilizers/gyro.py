@@ -28,6 +28,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
+from mpcwalk._checks import checked_number
 from mpcwalk.control.stabilizers.base import Stabilizer, StabilizerInput
 from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.exceptions import ConfigurationError
@@ -133,13 +134,13 @@ class GyroStabilizer(Stabilizer):
             max_offset=max_offset,
         )
         for key, value in gains.items():
-            if isinstance(value, bool) or not (
-                isinstance(value, (int, float)) and math.isfinite(value) and value >= 0.0
-            ):
-                raise ConfigurationError(
-                    f"GyroStabilizer {key} must be a non-negative number of seconds (rad per "
-                    f"rad/s), got {value!r}; paper M uses {PAPER_M_GAINS.get(key, 0.2)}."
-                )
+            checked_number(
+                f"GyroStabilizer {key}",
+                value,
+                low=0.0,
+                unit="s (rad per rad/s)",
+                fix=f"paper M uses {PAPER_M_GAINS.get(key, 0.2)}",
+            )
         self.gains = {key: float(gains[key]) for key in _JOINTS}
         self.max_offset = float(max_offset)
         self._indices = np.zeros(0, dtype=int)
