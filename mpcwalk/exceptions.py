@@ -149,46 +149,43 @@ class SolverNotFound(NotRegistered):
         )
 
 
-class GeneratorNotFound(NotRegistered):
+class _NotInRegistry(NotRegistered):
+    """A :class:`NotRegistered` of one registry, whose kind and listing command are class
+    attributes; called as the registry's ``not_found`` (name, available names, installable
+    names, install hint)."""
+
+    registry_kind = ""
+    registry_list_command = ""
+
+    def __init__(
+        self,
+        name: str,
+        available: Sequence[str],
+        installable: Mapping[str, str] | None = None,
+        install: str = "",
+    ) -> None:
+        super().__init__(
+            self.registry_kind,
+            name,
+            available,
+            installable,
+            install=install,
+            list_command=self.registry_list_command,
+        )
+
+
+class GeneratorNotFound(_NotInRegistry):
     """The requested pattern generator name is unknown."""
 
-    def __init__(
-        self,
-        name: str,
-        available: Sequence[str],
-        installable: Mapping[str, str] | None = None,
-        *,
-        install: str = "",
-    ) -> None:
-        super().__init__(
-            "pattern generator",
-            name,
-            available,
-            installable,
-            install=install,
-            list_command="mpcwalk generators",
-        )
+    registry_kind = "pattern generator"
+    registry_list_command = "mpcwalk generators"
 
 
-class StabilizerNotFound(NotRegistered):
+class StabilizerNotFound(_NotInRegistry):
     """The requested stabilizer name is unknown."""
 
-    def __init__(
-        self,
-        name: str,
-        available: Sequence[str],
-        installable: Mapping[str, str] | None = None,
-        *,
-        install: str = "",
-    ) -> None:
-        super().__init__(
-            "stabilizer",
-            name,
-            available,
-            installable,
-            install=install,
-            list_command="mpcwalk stabilizers",
-        )
+    registry_kind = "stabilizer"
+    registry_list_command = "mpcwalk stabilizers"
 
 
 class NoSolutionFound(MpcwalkError):

@@ -9,7 +9,7 @@ that entry's name.
 
 import importlib
 import inspect
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable
 from typing import Any
 
 from mpcwalk.exceptions import ConfigurationError, GeneratorNotFound
@@ -27,12 +27,6 @@ def _class(module: str, name: str) -> Callable[[], type[PatternGenerator]]:
         return generator
 
     return load
-
-
-def _not_found(
-    name: str, available: Sequence[str], installable: Mapping[str, str], install: str
-) -> GeneratorNotFound:
-    return GeneratorNotFound(name, available, installable, install=install)
 
 
 #: The pattern generators by name, in the order the command line lists them.
@@ -71,7 +65,7 @@ GENERATORS: Registry[type[PatternGenerator]] = Registry(
         ),
     ],
     list_command="mpcwalk generators",
-    not_found=_not_found,
+    not_found=GeneratorNotFound,
 )
 
 

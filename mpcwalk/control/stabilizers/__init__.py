@@ -19,7 +19,7 @@ distribution, foot damping, CoM offset estimate) has hooks of its own into the D
 the controller's option ``balance`` (:class:`BalanceOptions`) sets it, not the stabilizer slot.
 """
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable
 from typing import Any
 
 from mpcwalk.control.stabilizers.balance import BalanceStabilizer
@@ -61,12 +61,6 @@ def _reaim() -> StabilizerFactory:
     return FootstepReaiming  # its yaw from the IMU by default, as paper A
 
 
-def _not_found(
-    name: str, available: Sequence[str], installable: Mapping[str, str], install: str
-) -> StabilizerNotFound:
-    return StabilizerNotFound(name, available, installable, install=install)
-
-
 #: The stabilizers by name, in the order the command line lists them.
 STABILIZERS: Registry[StabilizerFactory] = Registry(
     "stabilizer",
@@ -94,7 +88,7 @@ STABILIZERS: Registry[StabilizerFactory] = Registry(
         ),
     ],
     list_command="mpcwalk stabilizers",
-    not_found=_not_found,
+    not_found=StabilizerNotFound,
 )
 
 
