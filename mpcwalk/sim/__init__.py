@@ -4,7 +4,7 @@
 falls, video."""
 
 from mpcwalk.robot.sensors import FootContact, ForceTorqueReading, ImuReading, SensorReadings
-from mpcwalk.sim.contacts import ContactEstimator
+from mpcwalk.sim.contacts import ContactWrenches
 from mpcwalk.sim.fall_detection import FallDetector, FallStatus
 from mpcwalk.sim.ground_truth import GroundTruth
 from mpcwalk.sim.model_mismatch import ModelMismatch, trunk_body
@@ -18,7 +18,7 @@ from mpcwalk.sim.simulation import Simulation, make_mj_data
 __all__ = [
     "BASE",
     "TORSO",
-    "ContactEstimator",
+    "ContactWrenches",
     "ExternalForce",
     "FallDetector",
     "FallStatus",

@@ -27,7 +27,7 @@ def _subtree_bodies(model: mujoco.MjModel, root: int) -> list[int]:
     return bodies
 
 
-class ContactEstimator:
+class ContactWrenches:
     """Sums the MuJoCo contact forces on each sole and computes the CoP (paper M eq. 31).
 
     The contact forces are the constraint solver's answer (``efc_force``, decoded as

@@ -2,7 +2,7 @@
 
 :class:`GroundTruth` reads, at the current MuJoCo state, what a perfect robot would know:
 the configuration and velocity, the base pose, the contacts of both soles and their CoP
-(:class:`~mpcwalk.sim.contacts.ContactEstimator`), the CoM, its velocity and the DCM, the
+(:class:`~mpcwalk.sim.contacts.ContactWrenches`), the CoM, its velocity and the DCM, the
 sole poses, and the exact readings of the robot's sensors (IMU gyroscope and accelerometer
 in the IMU frame, the joint angles, each foot's contact wrench in its sole frame about the
 sole origin). It returns them as an
@@ -19,7 +19,7 @@ from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.robot.robot import Robot
 from mpcwalk.robot.sensors import FootContact, ForceTorqueReading, ImuReading, SensorReadings
-from mpcwalk.sim.contacts import ContactEstimator
+from mpcwalk.sim.contacts import ContactWrenches
 from mpcwalk.sim.sim_state import quaternion_to_rpy
 
 
@@ -40,7 +40,7 @@ class GroundTruth:
 
     def __init__(self, robot: Robot, model: mujoco.MjModel, *, contact_threshold: float) -> None:
         self.robot = robot
-        self.contacts = ContactEstimator(
+        self.contacts = ContactWrenches(
             model, robot.foot_frames, contact_threshold=contact_threshold
         )
         self.root_body = int(model.jnt_bodyid[0])

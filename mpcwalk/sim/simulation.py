@@ -17,7 +17,7 @@ import numpy as np
 from mpcwalk.exceptions import ConfigurationError, SimulationUnstable
 from mpcwalk.robot.ground import Ground
 from mpcwalk.robot.robot import Robot
-from mpcwalk.sim.contacts import ContactEstimator
+from mpcwalk.sim.contacts import ContactWrenches
 from mpcwalk.sim.ground_truth import GroundTruth
 from mpcwalk.sim.model_mismatch import ModelMismatch, trunk_body
 from mpcwalk.sim.pushes import ExternalForce, resolve_body
@@ -124,7 +124,7 @@ class Simulation:
             self.model,
             contact_threshold=0.01 * weight if contact_threshold is None else contact_threshold,
         )
-        self.contacts: ContactEstimator = self.ground_truth.contacts
+        self.contacts: ContactWrenches = self.ground_truth.contacts
         self.root_body = self.ground_truth.root_body
         self._pushes: list[tuple[ExternalForce, int]] = []
         for push in pushes:
