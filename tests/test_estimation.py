@@ -338,7 +338,7 @@ def _walk_estimate(name: str, speed: float, nb_steps: int, seed: int = 0):
     from mpcwalk.footsteps.footstep import FootGeometry, StepTiming
     from mpcwalk.gait.contact_schedule import ContactSchedule
     from mpcwalk.sim import Simulation
-    from mpcwalk.walking.runner import plan_walk_footsteps
+    from mpcwalk.walking.footstep_planning import plan_walk_footsteps
 
     robot = get_robot(name)
     timing = StepTiming(
