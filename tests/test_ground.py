@@ -82,7 +82,7 @@ def test_mpc_walks_up_a_slope_and_over_bumps_from_the_command_line(tmp_path):
     )
     metrics = json.loads((out / "metrics.json").read_text())
     assert code == 0 and not metrics["fell"]
-    world = metrics["config"]["perturbation"]
+    world = metrics["config"]["model_mismatch"]
     assert world["ground_tilt_deg"] == 3.0 and world["ground_roughness_m"] == 0.004
     ground = read_spec(out / "spec.toml").world  # the ground, to walk on it again
     assert (ground.ground_tilt, ground.ground_roughness) == (3.0, 0.004)

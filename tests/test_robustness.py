@@ -179,6 +179,6 @@ def test_quick_run_of_the_script(tmp_path):
         assert not row["fell"], row
         assert row["steps_completed"] == row["steps_planned"] == 5
         assert row["config"]["state_source"] == "estimator"
-    assert data["rows"][2]["config"]["perturbation"]["com_offset"] == [0.01, 0.0]
+    assert data["rows"][2]["config"]["model_mismatch"]["com_offset"] == [0.01, 0.0]
     readme = (out / "README.md").read_text()
     assert "No walk falls." in readme and "#### bioloid-like, forward" in readme

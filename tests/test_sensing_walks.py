@@ -72,7 +72,7 @@ def test_options_are_validated_and_recorded_in_the_config_block():
     assert config["latency_s"] == pytest.approx(0.02) and config["sensors"]["latency"] == 2
     small = SensorModel.small_servo_humanoid()
     assert config["sensors"]["encoder_resolution"] == pytest.approx(2 * small.encoder_resolution)
-    assert config["perturbation"] == {
+    assert config["model_mismatch"] == {
         "mass_scale": 1.1,
         "com_offset": [0.005, -0.002],
         "friction": 0.8,

@@ -111,7 +111,12 @@ def test_the_spec_file_spells_out_every_field_resolved(walked):
     "option, value, field, config",
     [
         ("--seed", "3", ("run", "seed", 3), ("seed", 3)),
-        ("--mass-scale", "1.1", ("world", "mass_scale", 1.1), ("perturbation", "mass_scale", 1.1)),
+        (
+            "--mass-scale",
+            "1.1",
+            ("world", "mass_scale", 1.1),
+            ("model_mismatch", "mass_scale", 1.1),
+        ),
     ],
 )
 def test_an_option_beside_the_spec_changes_that_field(

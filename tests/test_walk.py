@@ -231,7 +231,7 @@ def test_walk_command_writes_metrics_log_plots_and_video(tmp_path, capsys):
     # on the estimator by default, with the robot's sensors and one period of latency
     assert config["state_source"] == "estimator" and config["latency_s"] == 0.01
     assert config["noise_scale"] == 1.0 and config["seed"] == 0
-    assert config["perturbation"]["mass_scale"] == 1.0
+    assert config["model_mismatch"]["mass_scale"] == 1.0
     assert 0.0 < metrics["estimator_com_error_rms_m"] < 0.005
     for name in ("walk_log.npz", "top_view.png", "com_cop.png", "estimator.png", "walk.mp4"):
         assert (out / name).stat().st_size > 1000, name

@@ -89,7 +89,7 @@ def _sensing(result: "WalkResult") -> str:
     text = f"state: {config.state_source} ({sensors}, latency {1e3 * config.latency_s:g} ms)"
     changed = {
         key: value
-        for key, value in config.perturbation.items()
+        for key, value in config.model_mismatch.items()
         if value not in (None, 1.0, [0.0, 0.0], (0.0, 0.0))
     }
     if changed:

@@ -53,7 +53,7 @@ class ControlLoop:
     Args:
         robot: The robot (the controller's model; the simulation may perturb its own copy).
         controller: The walking controller, not yet reset.
-        simulation: The simulation, with its sensor model and perturbation.
+        simulation: The simulation, with its sensor model and model mismatch.
         estimator: The state estimator; None gives the controller the ground truth.
         detector: The fall detector.
         sensor_faults: Faults injected into the sensor stream (None: none).

@@ -45,7 +45,7 @@ class WalkConfig:
             in control periods).
         latency_s: Sensing-to-actuation latency of the controller's state [s] (0 on the
             oracle, the exact state of the current time).
-        perturbation: How the simulated robot differed from the controller's model
+        model_mismatch: How the simulated robot differed from the controller's model
             (``mass_scale``, ``com_offset_m``, ``friction``, ``servo_strength``; see
             :class:`~mpcwalk.sim.model_mismatch.ModelMismatch`).
         seed: Seed of the sensor noise.
@@ -74,7 +74,7 @@ class WalkConfig:
     noise_scale: float = 1.0
     sensors: dict[str, Any] = field(default_factory=dict)
     latency_s: float = 0.0
-    perturbation: dict[str, Any] = field(default_factory=dict)
+    model_mismatch: dict[str, Any] = field(default_factory=dict)
     seed: int = 0
 
     def to_dict(self) -> dict[str, Any]:
@@ -83,7 +83,7 @@ class WalkConfig:
         if self.command is not None:
             values["command"] = dict(zip(("vx", "vy", "vyaw"), self.command))
         values["pushes"] = [list(push) for push in self.pushes]
-        values["perturbation"] = dict(self.perturbation)
+        values["model_mismatch"] = dict(self.model_mismatch)
         values["sensors"] = dict(self.sensors)
         return values
 

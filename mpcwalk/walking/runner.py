@@ -134,7 +134,7 @@ def _walk(
         control_period=period,
         pushes=setup.pushes,
         sensors=world.sensor_model(robot, period),
-        model_mismatch=world.perturbation,
+        model_mismatch=world.model_mismatch,
         seed=run.seed,
         ground=world.ground(seed=run.seed),
     )

@@ -54,7 +54,7 @@ class WorldSpec:
         ground_roughness: Largest height of the ground's random bumps [m] (0: flat).
 
     Raises:
-        ConfigurationError: A value out of its range (the perturbation's and the ground's
+        ConfigurationError: A value out of its range (the model mismatch's and the ground's
             own errors name the range), or ``ideal`` with a noise scale or a latency.
     """
 
@@ -107,11 +107,11 @@ class WorldSpec:
                 "walks on the sensors, 'oracle' on the simulator's ground truth."
             )
         object.__setattr__(self, "com_offset", _pair(self.com_offset))
-        self.perturbation  # noqa: B018 - its checks, now
+        self.model_mismatch  # noqa: B018 - its checks, now
         self.ground(seed=0)  # likewise
 
     @property
-    def perturbation(self) -> ModelMismatch:
+    def model_mismatch(self) -> ModelMismatch:
         """How the simulated robot differs from the controller's model."""
         return ModelMismatch(
             mass_scale=self.mass_scale,
@@ -159,7 +159,7 @@ class WorldSpec:
         """The entries of the ``config`` block of ``metrics.json``
         (:class:`~mpcwalk.walking.result.WalkConfig`): ``state_source``, ``ideal_sensors``,
         ``noise_scale``, ``sensors`` (the simulated sensor model's figures), ``latency_s``
-        (the latency the controller's state had: 0 on the oracle), ``perturbation`` (with
+        (the latency the controller's state had: 0 on the oracle), ``model_mismatch`` (with
         the ground's ``ground_*`` keys that differ from the level floor) and ``seed``."""
         sensors = self.sensor_model(robot, control_period)
         return {
@@ -169,8 +169,8 @@ class WorldSpec:
             "sensors": sensors.to_dict(),
             # the oracle is the exact state of the current time: no latency
             "latency_s": 0.0 if self.state == "oracle" else sensors.latency * control_period,
-            "perturbation": {
-                **self.perturbation.to_dict(),
+            "model_mismatch": {
+                **self.model_mismatch.to_dict(),
                 **self.ground(seed=seed).changes(),
             },
             "seed": int(seed),
