@@ -15,7 +15,7 @@ from mpcwalk.control.faults import FaultMonitor
 from mpcwalk.exceptions import ControllerStopped
 from mpcwalk.qp.result import QPResult
 from mpcwalk.qp.solvers.base import QPSolver
-from mpcwalk.qp.solvers.registry import SOLVERS, SolverEntry, make_solver
+from mpcwalk.qp.solvers.registry import SOLVERS, backend_entry, make_solver
 
 
 class FaultySolver(QPSolver):
@@ -40,7 +40,7 @@ class FaultySolver(QPSolver):
         return QPResult(x, None, True, "solved", 0.0, 1, 0.0, None, None, "faulty")
 
 
-SOLVERS.register(SolverEntry("faulty", FaultySolver, lambda: True, "the suite's fault injector"))
+SOLVERS.register(backend_entry("faulty", "the suite's fault injector", FaultySolver))
 
 
 def _walk(**fields):

@@ -14,10 +14,17 @@ from mpcwalk.generators.mpc import MpcGenerator
 from mpcwalk.generators.static_qp import StaticQPGenerator
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp import QPResult, WalkingQP, make_solver, solver_names
-from mpcwalk.qp.solvers import SOLVERS, KktSolver, SolverEntry, SolverRegistry
+from mpcwalk.qp.solvers import (
+    SOLVERS,
+    KktSolver,
+    backend_entry,
+    solver_backend,
+    solver_registry,
+)
 from mpcwalk.qp.solvers.casadi_qp import available_plugins
 from mpcwalk.qp.solvers.qpsolvers_backend import DEFINITE_SOLVERS
 from mpcwalk.qp.solvers.registry import qpsolvers_extras
+from mpcwalk.registry import format_registry
 
 
 def straight_schedule(step_duration, r_ds, nb_steps=6, stride=0.05):
@@ -243,16 +250,46 @@ def test_unknown_solver_names_the_installable_ones_with_their_command():
 
 
 def test_the_registry_takes_new_back_ends():
-    registry = SolverRegistry()
-    registry.register(
-        SolverEntry("fake", lambda **settings: KktSolver(), lambda: False, "pip install fake")
+    missing = backend_entry(
+        "fake", "a fake", lambda **settings: KktSolver(), is_available=lambda: False
     )
-    assert registry.names() == [] and registry.installable() == {"fake": "pip install fake"}
+    registry = solver_registry([missing])
+    assert registry.names() == [] and registry.installable() == {"fake": ""}
+    registry = solver_registry(
+        [
+            backend_entry(
+                "fake",
+                "a fake",
+                lambda **settings: KktSolver(),
+                is_available=lambda: False,
+                install="pip install fake",
+            )
+        ]
+    )
     with pytest.raises(SolverNotFound, match="'fake' is not installed; install it with"):
-        registry.make("fake")
-    registry.register(SolverEntry("fake", lambda **settings: KktSolver(), lambda: True, ""))
-    assert registry.names() == ["fake"] and isinstance(registry.make("fake"), KktSolver)
-    assert SOLVERS.get("daqp").definite_only and SOLVERS.get("osqp-direct").warm_start
+        registry.load("fake")
+    registry = solver_registry([backend_entry("fake", "a fake", lambda **s: KktSolver())])
+    assert registry.names() == ["fake"]
+    assert isinstance(registry.load("fake").factory(), KktSolver)
+    with pytest.raises(ValueError, match="'fake' is registered already"):
+        registry.register(backend_entry("fake", "again", lambda **s: KktSolver()))
+    with pytest.raises(SolverNotFound, match="Unknown solver 'daqp'; available: fake"):
+        registry.load("daqp")
+    assert solver_backend("daqp").definite_only and solver_backend("osqp-direct").warm_start
+    assert not solver_backend("osqp-direct").definite_only and not solver_backend("kkt").warm_start
+
+
+def test_the_back_ends_are_listed_like_every_registry():
+    """``format_registry`` lists the installed back-ends with their summary, then the known
+    ones that are not installed with their install command."""
+    listing = format_registry(SOLVERS)
+    lines = listing.splitlines()
+    assert lines[0].split(maxsplit=1) == ["osqp-direct", SOLVERS.entry("osqp-direct").summary]
+    assert any(line.startswith("quadprog ") and "through qpsolvers" in line for line in lines)
+    installed = [line.split()[0] for line in lines[: len(solver_names())]]
+    assert installed == solver_names()
+    for name, install in SOLVERS.installable().items():
+        assert f"  {name}" in listing and install in listing
 
 
 def test_definite_solvers_refuse_the_sparse_layout():

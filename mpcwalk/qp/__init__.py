@@ -6,10 +6,11 @@ from mpcwalk.qp.program import FixedPatternProgram, Prediction, QuadraticProgram
 from mpcwalk.qp.result import QPResult, kkt_residuals
 from mpcwalk.qp.solvers import (
     SOLVERS,
+    Backend,
     KktSolver,
     QPSolver,
     QpsolversSolver,
-    SolverEntry,
+    backend_entry,
     make_solver,
     solver_names,
 )
@@ -32,6 +33,7 @@ def __getattr__(name: str):
 __all__ = [
     "FORMULATIONS",
     "SOLVERS",
+    "Backend",
     "CasadiSolver",
     "FixedPatternProgram",
     "KktSolver",
@@ -42,8 +44,8 @@ __all__ = [
     "QPSolver",
     "QpsolversSolver",
     "QuadraticProgram",
-    "SolverEntry",
     "WalkingQP",
+    "backend_entry",
     "kkt_residuals",
     "make_solver",
     "solver_names",

@@ -5,7 +5,8 @@ Back-end names are those of the one registry of :mod:`mpcwalk.qp.solvers.registr
 vector-only updates, warm start from the shifted previous solution),
 ``"casadi-<plugin>"`` (CasADi's conic interface), every name of
 ``qpsolvers.available_solvers``, and ``"casadi-opti"`` (CasADi's Opti modelling
-layer, see :mod:`mpcwalk.bench.solvers.opti_solver`), which this module registers. At the ``default`` level each back-end keeps
+layer, see :mod:`mpcwalk.bench.solvers.opti_solver`), which only the benchmark knows
+(:func:`benchmark_registry`). At the ``default`` level each back-end keeps
 the settings a user gets without asking (for ``osqp-direct`` and the CasADi
 plugins: those of :mod:`mpcwalk.qp`); at the other levels it is asked for
 the level's absolute tolerance and no relative one, as qpbenchmark does.
@@ -17,7 +18,8 @@ import qpsolvers
 from mpcwalk.bench.solvers.tolerances import ToleranceLevel
 from mpcwalk.qp.solvers.base import QPSolver
 from mpcwalk.qp.solvers.casadi_qp import available_plugins
-from mpcwalk.qp.solvers.registry import SOLVERS, SolverEntry, make_solver
+from mpcwalk.qp.solvers.registry import SOLVERS, Backend, backend_entry, solver_registry
+from mpcwalk.registry import Registry
 
 #: CasADi's modelling layer, benchmarked beside the conic plugins.
 OPTI_BACKEND = "casadi-opti"
@@ -75,15 +77,18 @@ def _make_opti(**settings) -> QPSolver:
     return OptiSolver(**settings)
 
 
-SOLVERS.register(
-    SolverEntry(
+def benchmark_registry() -> Registry[Backend]:
+    """The project's back-ends (:data:`~mpcwalk.qp.solvers.registry.SOLVERS`, read, never
+    changed) plus :data:`OPTI_BACKEND`."""
+    opti = backend_entry(
         OPTI_BACKEND,
+        "CasADi's Opti modelling layer on qpOASES (solver benchmark only)",
         _make_opti,
-        lambda: "qpoases" in available_plugins(),
-        "a CasADi build with the 'qpoases' conic plugin",
+        is_available=lambda: "qpoases" in available_plugins(),
+        install="a CasADi build with the 'qpoases' conic plugin",
         warm_start=True,
     )
-)
+    return solver_registry([*(SOLVERS.entry(name) for name in SOLVERS), opti])
 
 
 def benchmark_backends(include_opti: bool = True) -> list[str]:
@@ -107,14 +112,16 @@ def is_applicable(backend: str, formulation: str) -> bool:
     semidefinite. Such pairs are left out of the benchmark, not counted as
     failures.
     """
-    entry = SOLVERS.get(backend)
-    return formulation != "sparse" or entry is None or not entry.definite_only
+    registry = benchmark_registry()
+    if backend not in registry:
+        return True
+    return formulation != "sparse" or not registry.entry(backend).load().definite_only
 
 
 def supports_warm_start(backend: str) -> bool:
     """Whether the back-end takes an initial guess (the shifted previous solution)."""
-    entry = SOLVERS.get(backend)
-    return entry is not None and entry.warm_start
+    registry = benchmark_registry()
+    return backend in registry and registry.entry(backend).load().warm_start
 
 
 def backend_settings(backend: str, level: ToleranceLevel) -> dict:
@@ -170,7 +177,7 @@ def make_backend(backend: str, level: ToleranceLevel) -> QPSolver:
     Raises:
         SolverNotFound: Unknown or uninstalled back-end.
     """
-    return make_solver(backend, **backend_settings(backend, level))
+    return benchmark_registry().load(backend).factory(**backend_settings(backend, level))
 
 
 def settings_table(levels: dict[str, ToleranceLevel], backends: list[str]) -> str:

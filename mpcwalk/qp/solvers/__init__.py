@@ -6,19 +6,23 @@ from mpcwalk.qp.solvers.kkt import KktSolver
 from mpcwalk.qp.solvers.qpsolvers_backend import QpsolversSolver
 from mpcwalk.qp.solvers.registry import (
     SOLVERS,
-    SolverEntry,
-    SolverRegistry,
+    Backend,
+    backend_entry,
     make_solver,
+    solver_backend,
     solver_names,
+    solver_registry,
 )
 
 __all__ = [
     "SOLVERS",
+    "Backend",
     "KktSolver",
     "QPSolver",
     "QpsolversSolver",
-    "SolverEntry",
-    "SolverRegistry",
+    "backend_entry",
     "make_solver",
+    "solver_backend",
     "solver_names",
+    "solver_registry",
 ]

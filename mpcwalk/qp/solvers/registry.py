@@ -1,4 +1,4 @@
-"""One registry of QP back-ends: name -> factory, availability, install hint.
+"""The registry of QP back-ends: name -> factory and flags, availability, install hint.
 
 Names:
 
@@ -17,16 +17,21 @@ Names:
   (:class:`~mpcwalk.qp.solvers.qpsolvers_backend.QpsolversSolver`); the ones qpsolvers
   can install (its pip extras) are known even when absent, with their install command.
 
-A new back-end is one :class:`SolverEntry` given to :meth:`SolverRegistry.register` of
-:data:`SOLVERS` (the solver benchmark registers CasADi's Opti layer that way). The
-back-end modules import nothing of this one; the heavy ones (OSQP, CasADi) are imported
-when their back-end is first made.
+:data:`SOLVERS` is a :class:`~mpcwalk.registry.Registry` like every other registry of the
+project (``mpcwalk.registry.format_registry(SOLVERS)`` lists it): each name is an
+:class:`~mpcwalk.registry.Entry` whose loaded value is a :class:`Backend`, the factory and
+the flags of the back-end. It is filled here, from the list of :func:`default_entries`;
+nothing else adds to it on import. A back-end of your own is one :func:`backend_entry`
+given to ``SOLVERS.register`` by the code that uses it; a registry of its own (the solver
+benchmark's, which adds CasADi's Opti layer) is :func:`solver_registry` of the entries of
+:data:`SOLVERS` plus its own. The back-end modules import nothing of this one; the heavy
+ones (OSQP, CasADi) are imported when their back-end is first made.
 """
 
 import importlib.metadata
 import importlib.util
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 import qpsolvers
@@ -40,69 +45,70 @@ from mpcwalk.qp.solvers.qpsolvers_backend import (
     WARM_START_SOLVERS,
     QpsolversSolver,
 )
+from mpcwalk.registry import Entry, Registry
 
 #: qpsolvers extras whose solver has another name.
 _EXTRA_SOLVER_NAMES = {"jaxopt": "jaxopt_osqp"}
 
 
 @dataclass(frozen=True)
-class SolverEntry:
-    """One back-end of the registry.
+class Backend:
+    """What a back-end name stands for: how to make it and how it behaves.
 
     Attributes:
-        name: The name :func:`make_solver` takes.
         factory: Builds the back-end from its keyword settings.
-        is_available: Whether it runs on this installation (called on demand).
-        install: How to install it when it is not available (a command or a sentence).
         warm_start: Whether it starts from the shifted previous solution.
         definite_only: Whether it needs a positive definite cost matrix (so not the sparse
             formulation's, which is only semidefinite).
     """
 
-    name: str
     factory: Callable[..., QPSolver]
-    is_available: Callable[[], bool]
-    install: str
     warm_start: bool = False
     definite_only: bool = False
 
 
-class SolverRegistry:
-    """Back-ends by name, in the order they were registered."""
+def _always() -> bool:
+    return True
 
-    def __init__(self) -> None:
-        self._entries: dict[str, SolverEntry] = {}
 
-    def register(self, entry: SolverEntry) -> None:
-        """Add ``entry`` (or replace the entry of the same name)."""
-        self._entries[entry.name] = entry
+def backend_entry(
+    name: str,
+    summary: str,
+    factory: Callable[..., QPSolver],
+    *,
+    is_available: Callable[[], bool] = _always,
+    install: str = "",
+    warm_start: bool = False,
+    definite_only: bool = False,
+) -> Entry[Backend]:
+    """One back-end of a solver registry, e.g.
+    ``SOLVERS.register(backend_entry("scipy-slsqp", "SciPy's SLSQP", ScipySlsqp))``.
 
-    def get(self, name: str) -> SolverEntry | None:
-        """Entry called ``name``, installed or not; None when unknown."""
-        return self._entries.get(name)
+    Args:
+        name: The name :func:`make_solver` takes.
+        summary: One line for the listing.
+        factory: Builds the back-end from its keyword settings.
+        is_available: Whether it runs on this installation (called on demand).
+        install: How to install it when it is not available (a command or a sentence).
+        warm_start: Whether it starts from the shifted previous solution.
+        definite_only: Whether it needs a positive definite cost matrix.
+    """
+    backend = Backend(factory, warm_start=warm_start, definite_only=definite_only)
+    return Entry(name, summary, lambda: backend, is_available, install)
 
-    def names(self) -> list[str]:
-        """Names of the back-ends available on this installation."""
-        return [name for name, entry in self._entries.items() if entry.is_available()]
 
-    def installable(self) -> dict[str, str]:
-        """Known back-ends that are not installed -> how to install them."""
-        return {n: e.install for n, e in self._entries.items() if not e.is_available()}
+def _not_found(
+    name: str, available: Sequence[str], installable: Mapping[str, str], install: str
+) -> SolverNotFound:
+    if install:
+        return SolverNotFound(name, available, install=install)
+    return SolverNotFound(name, available, installable)
 
-    def make(self, name: str, **settings) -> QPSolver:
-        """Back-end called ``name``, built with ``settings``.
 
-        Raises:
-            SolverNotFound: Unknown name (the message lists the available and the
-                installable back-ends), or a known back-end that is not installed (the
-                message says how to install it).
-        """
-        entry = self._entries.get(name)
-        if entry is None:
-            raise SolverNotFound(name, self.names(), self.installable())
-        if not entry.is_available():
-            raise SolverNotFound(name, self.names(), install=entry.install)
-        return entry.factory(**settings)
+def solver_registry(entries: Iterable[Entry[Backend]]) -> Registry[Backend]:
+    """A registry of back-ends (unknown names raise
+    :class:`~mpcwalk.exceptions.SolverNotFound`)."""
+    return Registry("solver", entries, list_command="mpcwalk solvers", not_found=_not_found)
 
 
 def _make_osqp(**settings) -> QPSolver:
@@ -125,7 +131,7 @@ def _make_kkt(**settings) -> QPSolver:
     return KktSolver()
 
 
-def _casadi_entry(name: str, plugin: str) -> SolverEntry:
+def _casadi_entry(name: str, plugin: str, summary: str = "") -> Entry[Backend]:
     def make(**settings) -> QPSolver:
         from mpcwalk.qp.solvers.casadi_qp import CasadiSolver
 
@@ -135,23 +141,25 @@ def _casadi_entry(name: str, plugin: str) -> SolverEntry:
         install = "pip install casadi"
     else:
         install = f"a CasADi build with the '{plugin}' conic plugin"
-    return SolverEntry(
+    return backend_entry(
         name,
+        summary or f"CasADi's conic interface, plugin {plugin}",
         make,
-        lambda: plugin in available_plugins(),
-        install,
+        is_available=lambda: plugin in available_plugins(),
+        install=install,
         warm_start=True,
         definite_only=plugin in DEFINITE_PLUGINS,
     )
 
 
-def _qpsolvers_entry(name: str, extra: str | None) -> SolverEntry:
+def _qpsolvers_entry(name: str, extra: str | None) -> Entry[Backend]:
     install = f"pip install qpsolvers[{extra}]" if extra else "see the qpsolvers documentation"
-    return SolverEntry(
+    return backend_entry(
         name,
+        f"{name} through qpsolvers",
         lambda **settings: QpsolversSolver(name, **settings),
-        lambda: name in qpsolvers.available_solvers,
-        install,
+        is_available=lambda: name in qpsolvers.available_solvers,
+        install=install,
         warm_start=name in WARM_START_SOLVERS,
         definite_only=name in DEFINITE_SOLVERS,
     )
@@ -174,49 +182,55 @@ def qpsolvers_extras() -> dict[str, str]:
     return extras
 
 
-def _default_registry() -> SolverRegistry:
-    registry = SolverRegistry()
+def default_entries() -> list[Entry[Backend]]:
+    """The back-ends of :data:`SOLVERS`, in the order they are listed."""
     osqp_missing = importlib.util.find_spec("osqp") is None
-    registry.register(
-        SolverEntry(
-            "osqp-direct",
-            _make_osqp,
-            lambda: not osqp_missing,
-            "pip install osqp",
-            warm_start=True,
-        )
-    )
-    registry.register(SolverEntry("kkt", _make_kkt, lambda: True, ""))
     daqp_missing = importlib.util.find_spec("daqp") is None
-    registry.register(
-        SolverEntry(
+    entries = [
+        backend_entry(
+            "osqp-direct",
+            "OSQP set up once, vector updates, warm start from the shifted solution",
+            _make_osqp,
+            is_available=lambda: not osqp_missing,
+            install="pip install osqp",
+            warm_start=True,
+        ),
+        backend_entry("kkt", "one linear solve of the KKT system (no inequalities)", _make_kkt),
+        backend_entry(
             "daqp-direct",
+            "DAQP's own workspace, vector updates, hot start from the last working set",
             _make_daqp,
-            lambda: not daqp_missing,
-            "pip install daqp",
+            is_available=lambda: not daqp_missing,
+            install="pip install daqp",
             warm_start=True,
             definite_only=True,
-        )
-    )
-    registry.register(_casadi_entry("casadi", "qpoases"))
-    for plugin in PLUGINS:
-        registry.register(_casadi_entry(f"casadi-{plugin}", plugin))
+        ),
+        _casadi_entry("casadi", "qpoases", "CasADi's conic interface, plugin qpoases (default)"),
+    ]
+    entries += [_casadi_entry(f"casadi-{plugin}", plugin) for plugin in PLUGINS]
     extras = qpsolvers_extras()
-    for name in [
-        *qpsolvers.available_solvers,
-        *sorted(set(extras) - set(qpsolvers.available_solvers)),
-    ]:
-        registry.register(_qpsolvers_entry(name, extras.get(name)))
-    return registry
+    names = [*qpsolvers.available_solvers, *sorted(set(extras) - set(qpsolvers.available_solvers))]
+    entries += [_qpsolvers_entry(name, extras.get(name)) for name in names]
+    return entries
 
 
 #: The registry of every back-end (see the module docstring).
-SOLVERS = _default_registry()
+SOLVERS: Registry[Backend] = solver_registry(default_entries())
 
 
 def solver_names() -> list[str]:
     """Names accepted by :func:`make_solver` on this installation."""
     return SOLVERS.names()
+
+
+def solver_backend(name: str) -> Backend:
+    """The factory and the flags of the back-end ``name`` of :data:`SOLVERS`, installed or
+    not.
+
+    Raises:
+        SolverNotFound: Unknown name.
+    """
+    return SOLVERS.entry(name).load()
 
 
 def make_solver(name: str, **settings) -> QPSolver:
@@ -226,4 +240,4 @@ def make_solver(name: str, **settings) -> QPSolver:
         SolverNotFound: Unknown or uninstalled back-end; the message lists the available
             ones and how to install the missing ones.
     """
-    return SOLVERS.make(name, **settings)
+    return SOLVERS.load(name).factory(**settings)
