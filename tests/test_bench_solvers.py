@@ -6,17 +6,25 @@ import gzip
 import importlib.util
 import math
 import re
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from mpcwalk.bench.solvers.backends import backend_settings, is_applicable, supports_warm_start
-from mpcwalk.bench.solvers.case_runner import CSV_COLUMNS, CaseRunner, SolverCase
+from mpcwalk.bench.solvers.backends.registry import is_applicable, supports_warm_start
+from mpcwalk.bench.solvers.backends.settings import backend_settings
+from mpcwalk.bench.solvers.benchmark import make_cases, run_solver_benchmark
 from mpcwalk.bench.solvers.config import SolverBenchConfig
-from mpcwalk.bench.solvers.in_loop import mujoco_walk_runner
-from mpcwalk.bench.solvers.problem_set import get_family
-from mpcwalk.bench.solvers.qpbenchmark_export import build_problem, export_test_set, load_problem
+from mpcwalk.bench.solvers.loops.plants import mujoco_walk_runner
+from mpcwalk.bench.solvers.peers.qpbenchmark_export import (
+    build_problem,
+    export_test_set,
+    load_problem,
+)
+from mpcwalk.bench.solvers.problems.families import get_family
+from mpcwalk.bench.solvers.problems.sampling import reference_walk, sample_problems
 from mpcwalk.bench.solvers.results import (
     RESULTS_FILE,
     fit_exponent,
@@ -25,9 +33,8 @@ from mpcwalk.bench.solvers.results import (
     shgeom_runtimes,
     shifted_geometric_mean,
 )
-from mpcwalk.bench.solvers.runner import make_cases, run_solver_benchmark
-from mpcwalk.bench.solvers.sampling import reference_walk, sample_problems
-from mpcwalk.bench.solvers.timed_solves import TimedSolves
+from mpcwalk.bench.solvers.solves.cases import CSV_COLUMNS, CaseSolver, SolverCase
+from mpcwalk.bench.solvers.solves.timed import TimedSolves
 from mpcwalk.bench.solvers.tolerances import select_levels, tolerance_levels
 from mpcwalk.exceptions import ConfigurationError
 
@@ -181,7 +188,7 @@ def test_qpbenchmark_export_round_trips(problems, tmp_path):
 
 def test_walking_test_set_yields_the_exported_problems(problems, tmp_path):
     pytest.importorskip("qpbenchmark")
-    from mpcwalk.bench.solvers.walking_test_set import WalkingTestSet
+    from mpcwalk.bench.solvers.peers.qpbenchmark_test_set import WalkingTestSet
 
     names = export_test_set([(problems[0], "dense")], tmp_path)
     test_set = WalkingTestSet(tmp_path / "data", solvers=["daqp", "nonexistent"], time_limit=2.0)
@@ -253,9 +260,9 @@ def test_timeouts_are_recorded_and_their_group_skipped(problems):
     assert not any(r["success"] for r in rows)
 
 
-def test_case_runner_turns_errors_into_failed_rows(problems):
+def test_case_solver_turns_errors_into_failed_rows(problems):
     level = tolerance_levels()["default"]
-    row = CaseRunner().run(SolverCase(problems[0], "sparse", "quadprog", level, "cold"))
+    row = CaseSolver().solve(SolverCase(problems[0], "sparse", "quadprog", level, "cold"))
     assert not row["found"] and not row["success"]
     assert row["status"].startswith("error: ConfigurationError")
 
@@ -272,3 +279,29 @@ def test_matrices_given_to_solvers_do_not_share_the_pattern():
     P.data[:] = 0.0
     np.testing.assert_array_equal(pattern.indptr, indptr)
     np.testing.assert_array_equal(qp.P_data, data)
+
+
+def test_importing_the_benchmark_leaves_the_solver_names_alone():
+    """The benchmark's own back-end (CasADi's Opti layer) lives in the benchmark's registry:
+    importing every module of ``mpcwalk.bench`` adds no name to the project's registry, so
+    the names a walk accepts do not depend on what was imported (a fresh interpreter: this
+    one may have imported the benchmark already)."""
+    code = """
+import importlib, pkgutil
+from mpcwalk.qp.solvers import SOLVERS, solver_names
+before = (SOLVERS.names(available=False), solver_names())
+import mpcwalk.bench
+for module in pkgutil.walk_packages(mpcwalk.bench.__path__, "mpcwalk.bench."):
+    try:
+        importlib.import_module(module.name)
+    except ModuleNotFoundError as error:  # the optional qpbenchmark
+        assert error.name == "qpbenchmark", error
+from mpcwalk.bench.solvers.backends.registry import OPTI_BACKEND, benchmark_registry
+assert OPTI_BACKEND in benchmark_registry() and OPTI_BACKEND not in SOLVERS
+assert benchmark_registry().names(available=False)[:-1] == before[0]
+print(before == (SOLVERS.names(available=False), solver_names()), len(before[0]))
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    same, count = out.stdout.split()
+    assert same == "True" and int(count) > 10

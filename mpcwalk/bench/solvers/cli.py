@@ -31,8 +31,8 @@ def _command(args) -> str:
 
 
 def _run(args) -> int:
+    from mpcwalk.bench.solvers.benchmark import rewrite_report, run_solver_benchmark
     from mpcwalk.bench.solvers.config import SolverBenchConfig
-    from mpcwalk.bench.solvers.runner import rewrite_report, run_solver_benchmark
 
     if args.report_only:
         print(f"wrote {rewrite_report(args.out)}")

@@ -3,8 +3,8 @@
 import dataclasses
 from dataclasses import dataclass
 
-from mpcwalk.bench.solvers.case_runner import STARTS
-from mpcwalk.bench.solvers.problem_set import WALKS, families
+from mpcwalk.bench.solvers.problems.families import WALKS, families
+from mpcwalk.bench.solvers.solves.cases import STARTS
 from mpcwalk.bench.solvers.tolerances import LEVEL_NAMES
 from mpcwalk.exceptions import ConfigurationError
 

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mpcwalk.bench.solvers.case_runner import CSV_COLUMNS
+from mpcwalk.bench.solvers.solves.cases import CSV_COLUMNS
 
 _INTS = ("horizon", "tick", "n", "m")
 _FLOATS = (

@@ -8,7 +8,7 @@ Run it with qpbenchmark (pip install "mpcwalk[bench]"):
 
 import os
 
-from mpcwalk.bench.solvers.walking_test_set import WalkingTestSet
+from mpcwalk.bench.solvers.peers.qpbenchmark_test_set import WalkingTestSet
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 

@@ -6,21 +6,21 @@ from pathlib import Path
 
 import numpy as np
 
-from mpcwalk.bench.solvers.backends import (
+from mpcwalk.bench.solvers.backends.registry import (
     KNOWN_SLOW_BACKENDS,
     is_applicable,
-    settings_table,
     supports_warm_start,
 )
+from mpcwalk.bench.solvers.backends.settings import settings_table
 from mpcwalk.bench.solvers.config import SolverBenchConfig
-from mpcwalk.bench.solvers.plots import (
+from mpcwalk.bench.solvers.problems.families import PENDING_FAMILIES, get_family
+from mpcwalk.bench.solvers.report.plots import (
     plot_success_rates,
     plot_tick_histograms,
     plot_time_vs_horizon,
     save_figure,
 )
-from mpcwalk.bench.solvers.problem_set import PENDING_FAMILIES, get_family
-from mpcwalk.bench.solvers.report_scaling import (
+from mpcwalk.bench.solvers.report.scaling import (
     growth_headline,
     growth_section,
     markdown_table,
@@ -200,7 +200,7 @@ def write_report(out_dir: Path, rows: list[dict], config: SolverBenchConfig, ext
                 out_dir / name,
             )
             figures[key] = name
-    from mpcwalk.bench.solvers.report_text import compose_report
+    from mpcwalk.bench.solvers.report.text import compose_report
 
     text = compose_report(
         rows,

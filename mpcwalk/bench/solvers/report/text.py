@@ -5,7 +5,7 @@ import math
 import numpy as np
 
 from mpcwalk.bench.solvers.config import SolverBenchConfig
-from mpcwalk.bench.solvers.in_loop import loop_table, mujoco_table
+from mpcwalk.bench.solvers.loops.plants import loop_table, mujoco_table
 from mpcwalk.bench.solvers.results import in_set, select, shgeom_runtimes, success_rates
 
 
@@ -240,7 +240,7 @@ def in_loop_text(config: SolverBenchConfig, extras: dict, figures: dict[str, str
     elif not loops.get("mujoco_available"):
         text += (
             "\n\nMuJoCo walk per back-end: not run, `mpcwalk.walking.runner.run_walk` is missing "
-            "here; `mpcwalk.bench.solvers.in_loop.run_mujoco_loop` calls it."
+            "here; `mpcwalk.bench.solvers.loops.plants.run_mujoco_loop` calls it."
         )
     return text
 

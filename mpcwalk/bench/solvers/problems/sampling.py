@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mpcwalk.bench.solvers.problem_set import (
+from mpcwalk.bench.solvers.problems.families import (
     WALKS,
     WalkingProblem,
     families,

@@ -9,7 +9,7 @@ from qpbenchmark import Problem
 
 
 class WalkingTestSet(qpbenchmark.TestSet):
-    """Walking MPC QPs exported by :func:`~mpcwalk.bench.solvers.qpbenchmark_export.export_test_set`.
+    """Walking MPC QPs exported by :func:`~mpcwalk.bench.solvers.peers.qpbenchmark_export.export_test_set`.
 
     qpbenchmark builds test sets without arguments: a launcher subclass sets
     :attr:`data_dir` (see the ``mpcwalk_qpbenchmark.py`` the export writes).

@@ -21,8 +21,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mpcwalk.bench.solvers.backends import backend_settings
-from mpcwalk.bench.solvers.problem_set import get_family, walk_schedule
+from mpcwalk.bench.solvers.backends.settings import backend_settings
+from mpcwalk.bench.solvers.problems.families import get_family, walk_schedule
 from mpcwalk.bench.solvers.tolerances import ToleranceLevel
 from mpcwalk.exceptions import MpcwalkError
 from mpcwalk.gait.support_margins import support_margins
@@ -217,7 +217,7 @@ def run_mujoco_loop(
     run_walk = mujoco_walk_runner()
     if run_walk is None:
         return None
-    from mpcwalk.bench.solvers.problem_set import WALKS
+    from mpcwalk.bench.solvers.problems.families import WALKS
 
     command: VelocityCommand = WALKS[walk]
     empty = np.zeros(0)

@@ -157,7 +157,7 @@ def footstep_adaptive_family() -> ProblemFamily | None:
 #: Families announced but not available yet: name -> reason (for the report).
 PENDING_FAMILIES = {
     "mpc-adaptive": "footstep-adaptive MPC: not implemented in mpcwalk yet "
-    "(hook: mpcwalk.bench.solvers.problem_set.footstep_adaptive_family)",
+    "(hook: mpcwalk.bench.solvers.problems.families.footstep_adaptive_family)",
 }
 
 

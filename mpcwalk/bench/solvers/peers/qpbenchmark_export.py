@@ -5,7 +5,7 @@ Each problem is saved as ``data/<name>.npz`` in the layout of
 one stored as an empty object, which ``Problem.load`` reads back as None),
 compressed. Next to ``data/`` a launcher ``mpcwalk_qpbenchmark.py`` defines
 the test set class qpbenchmark's command line expects (``MpcwalkQpbenchmark``,
-a :class:`~mpcwalk.bench.solvers.walking_test_set.WalkingTestSet`), so that::
+a :class:`~mpcwalk.bench.solvers.peers.qpbenchmark_test_set.WalkingTestSet`), so that::
 
     python mpcwalk_qpbenchmark.py run            # all solvers, all settings
     qpbenchmark mpcwalk_qpbenchmark.py run --settings mid_accuracy
@@ -21,7 +21,7 @@ import numpy as np
 import qpsolvers
 import scipy.sparse as sp
 
-from mpcwalk.bench.solvers.problem_set import WalkingProblem, get_family
+from mpcwalk.bench.solvers.problems.families import WalkingProblem, get_family
 
 #: Keys of a qpsolvers problem file.
 PROBLEM_KEYS = ("P", "q", "G", "h", "A", "b", "lb", "ub")
@@ -38,7 +38,7 @@ Run it with qpbenchmark (pip install "mpcwalk[bench]"):
 
 import os
 
-from mpcwalk.bench.solvers.walking_test_set import WalkingTestSet
+from mpcwalk.bench.solvers.peers.qpbenchmark_test_set import WalkingTestSet
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -130,53 +130,3 @@ def export_test_set(
     launcher = _LAUNCHER.replace("{time_limit!r}", repr(float(time_limit)))
     (out_dir / LAUNCHER_NAME).write_text(launcher)
     return names
-
-
-def run_qpbenchmark(
-    test_set_dir: Path,
-    *,
-    settings: Iterable[str] | None = None,
-    solvers: Iterable[str] | None = None,
-    time_limit: float = 1.0,
-    author: str = "mpcwalk bench solvers",
-) -> dict:
-    """Run qpbenchmark itself on an exported set and write its report.
-
-    Args:
-        test_set_dir: Directory written by :func:`export_test_set`.
-        settings: qpbenchmark settings names to run (default: all four).
-        solvers: qpsolvers names to run (default: every one qpbenchmark knows).
-        time_limit: In [s].
-        author: Author field of qpbenchmark's report.
-
-    Returns:
-        ``{"results": csv path, "report": md path, "success": {solver:
-        {settings: %}}, "runtime": {solver: {settings: relative shgeom}}}``.
-    """
-    import qpbenchmark
-
-    from mpcwalk.bench.solvers.walking_test_set import WalkingTestSet
-
-    test_set_dir = Path(test_set_dir)
-    test_set = WalkingTestSet(test_set_dir / "data", solvers=solvers, time_limit=time_limit)
-    results_dir = test_set_dir / "results"
-    results_dir.mkdir(parents=True, exist_ok=True)
-    csv_path = results_dir / "qpbenchmark_results.csv"
-    results = qpbenchmark.Results(str(csv_path), test_set)
-    for name in list(settings) if settings else list(test_set.solver_settings):
-        qpbenchmark.run(test_set, results, only_settings=name)
-    md_path = results_dir / "mpcwalk_qpbenchmark.md"
-    qpbenchmark.Report(author, results).write(str(md_path))
-    tol = test_set.tolerances
-    success = results.build_success_rate_df(
-        {k: v.primal for k, v in tol.items()},
-        {k: v.dual for k, v in tol.items()},
-        {k: v.gap for k, v in tol.items()},
-    )
-    runtime = results.build_shgeom_df("runtime", 10.0, {k: v.runtime for k, v in tol.items()})
-    return {
-        "results": csv_path,
-        "report": md_path,
-        "success": success.to_dict(orient="index"),
-        "runtime": runtime.to_dict(orient="index"),
-    }

@@ -1,33 +1,19 @@
-"""QP back-ends of the solver benchmark and their settings per tolerance level.
+"""Settings of the solver benchmark's QP back-ends per tolerance level.
 
-Back-end names are those of the one registry of :mod:`mpcwalk.qp.solvers.registry`
-(:func:`mpcwalk.qp.make_solver`): ``"osqp-direct"`` (OSQP through its own API,
-vector-only updates, warm start from the shifted previous solution),
+Back-end names are those of the benchmark's registry
+(:mod:`mpcwalk.bench.solvers.backends.registry`): ``"osqp-direct"`` (OSQP through its own
+API, vector-only updates, warm start from the shifted previous solution),
 ``"casadi-<plugin>"`` (CasADi's conic interface), every name of
 ``qpsolvers.available_solvers``, and ``"casadi-opti"`` (CasADi's Opti modelling
-layer, see :mod:`mpcwalk.bench.solvers.opti_solver`), which only the benchmark knows
-(:func:`benchmark_registry`). At the ``default`` level each back-end keeps
+layer, see :mod:`mpcwalk.bench.solvers.backends.opti`). At the ``default`` level each back-end keeps
 the settings a user gets without asking (for ``osqp-direct`` and the CasADi
 plugins: those of :mod:`mpcwalk.qp`); at the other levels it is asked for
 the level's absolute tolerance and no relative one, as qpbenchmark does.
 Every back-end also gets the level's time limit where it takes one.
 """
 
-import qpsolvers
-
 from mpcwalk.bench.solvers.tolerances import ToleranceLevel
-from mpcwalk.qp.solvers.base import QPSolver
-from mpcwalk.qp.solvers.casadi_qp import available_plugins
-from mpcwalk.qp.solvers.registry import SOLVERS, Backend, backend_entry, solver_registry
-from mpcwalk.registry import Registry
 
-#: CasADi's modelling layer, benchmarked beside the conic plugins.
-OPTI_BACKEND = "casadi-opti"
-#: Back-ends known to take over a second per walking QP whatever the problem
-#: (JAX-based: qpsolvers builds and compiles a new solver at every call).
-#: Like qpbenchmark's known timeouts, they are only sampled: default
-#: settings, cold start, one problem per family.
-KNOWN_SLOW_BACKENDS = frozenset({"jaxopt_osqp", "qpax"})
 #: Settings of a qpsolvers back-end asked for an absolute tolerance ``eps``.
 _QPSOLVERS_EPS = {
     "clarabel": lambda e: {"tol_feas": e, "tol_gap_abs": e, "tol_gap_rel": 0.0},
@@ -69,59 +55,6 @@ _QPSOLVERS_TIME_LIMIT = {
     "sip": "time_limit",
 }
 _QPSOLVERS_QUIET = {"qtqp": {"verbose": False}}
-
-
-def _make_opti(**settings) -> QPSolver:
-    from mpcwalk.bench.solvers.opti_solver import OptiSolver
-
-    return OptiSolver(**settings)
-
-
-def benchmark_registry() -> Registry[Backend]:
-    """The project's back-ends (:data:`~mpcwalk.qp.solvers.registry.SOLVERS`, read, never
-    changed) plus :data:`OPTI_BACKEND`."""
-    opti = backend_entry(
-        OPTI_BACKEND,
-        "CasADi's Opti modelling layer on qpOASES (solver benchmark only)",
-        _make_opti,
-        is_available=lambda: "qpoases" in available_plugins(),
-        install="a CasADi build with the 'qpoases' conic plugin",
-        warm_start=True,
-    )
-    return solver_registry([*(SOLVERS.entry(name) for name in SOLVERS), opti])
-
-
-def benchmark_backends(include_opti: bool = True) -> list[str]:
-    """Every back-end installed here, direct paths first.
-
-    Args:
-        include_opti: Add :data:`OPTI_BACKEND` (when CasADi has the qpOASES plugin).
-    """
-    plugins = available_plugins()
-    names = ["osqp-direct"] + [f"casadi-{p}" for p in plugins]
-    if include_opti and "qpoases" in plugins:
-        names.append(OPTI_BACKEND)
-    return names + sorted(qpsolvers.available_solvers)
-
-
-def is_applicable(backend: str, formulation: str) -> bool:
-    """Whether ``backend`` can take the ``formulation``'s problems at all.
-
-    Back-ends that need a positive definite cost matrix (DAQP, quadprog,
-    ECOS...) cannot take the sparse formulation, whose ``P`` is only
-    semidefinite. Such pairs are left out of the benchmark, not counted as
-    failures.
-    """
-    registry = benchmark_registry()
-    if backend not in registry:
-        return True
-    return formulation != "sparse" or not registry.entry(backend).load().definite_only
-
-
-def supports_warm_start(backend: str) -> bool:
-    """Whether the back-end takes an initial guess (the shifted previous solution)."""
-    registry = benchmark_registry()
-    return backend in registry and registry.entry(backend).load().warm_start
 
 
 def backend_settings(backend: str, level: ToleranceLevel) -> dict:
@@ -169,15 +102,6 @@ def _casadi_settings(plugin: str, eps: float | None, limit: float) -> dict:
         return {"daqp": {"primal_tol": eps, "dual_tol": eps}}
     return {}  # qpOASES (conic and Opti): exact active set, no tolerance; its CPUtime
     # option did not bound the solves measured here, so none is set
-
-
-def make_backend(backend: str, level: ToleranceLevel) -> QPSolver:
-    """A fresh back-end object from the registry, configured for ``level``.
-
-    Raises:
-        SolverNotFound: Unknown or uninstalled back-end.
-    """
-    return benchmark_registry().load(backend).factory(**backend_settings(backend, level))
 
 
 def settings_table(levels: dict[str, ToleranceLevel], backends: list[str]) -> str:

@@ -4,18 +4,21 @@ Stages, in order, so that nothing else of this benchmark runs while solves
 are timed:
 
 1. untimed, as Ray tasks, ``prep_workers`` at a time (:func:`~mpcwalk.sweep.map_tasks`):
-   the reference walks, the problems sampled from them, a feasibility check of each
+   the reference walks, the problems sampled from them
+   (:mod:`~mpcwalk.bench.solvers.problems.sampling`), a feasibility check of each
    (Clarabel on the sparse formulation; infeasible problems are dropped and listed), and
-   the export of the qpbenchmark test set;
+   the export of the qpbenchmark test set
+   (:mod:`~mpcwalk.bench.solvers.peers.qpbenchmark_export`);
 2. timed, on ``timing_workers`` Ray timing actors (default 1; one CPU each, one case at a
    time: :mod:`mpcwalk.sweep.timing`): every case (problem x formulation x back-end x
    tolerance level x start) through
-   :class:`~mpcwalk.bench.solvers.timed_solves.TimedSolves`; rows go to ``results.csv.gz``;
+   :class:`~mpcwalk.bench.solvers.solves.timed.TimedSolves`; rows go to ``results.csv.gz``;
 3. timed, one at a time: per-tick time of every generator with the qpmpc peer
-   (:mod:`mpcwalk.bench.ticks`) on a timing actor, then the in-loop walks, one Ray task at
-   a time;
-4. qpbenchmark itself on the exported set (reduced: a subset of solvers), on a timing actor;
-5. the report and its figures.
+   (:mod:`~mpcwalk.bench.solvers.peers.ticks`) on a timing actor, then the in-loop walks,
+   one Ray task at a time (:mod:`~mpcwalk.bench.solvers.loops.candidates`);
+4. qpbenchmark itself on the exported set (reduced: a subset of solvers), on a timing actor
+   (:mod:`~mpcwalk.bench.solvers.peers.qpbenchmark_run`);
+5. the report and its figures (:mod:`~mpcwalk.bench.solvers.report.document`).
 """
 
 import importlib
@@ -30,25 +33,22 @@ from typing import Any
 
 import numpy as np
 
-from mpcwalk.bench.solvers.backends import (
+from mpcwalk.bench.solvers.backends.registry import (
     KNOWN_SLOW_BACKENDS,
     OPTI_BACKEND,
     benchmark_backends,
     is_applicable,
     supports_warm_start,
 )
-from mpcwalk.bench.solvers.case_runner import SolverCase
 from mpcwalk.bench.solvers.config import SolverBenchConfig
-from mpcwalk.bench.solvers.problem_set import WalkingProblem, get_family
+from mpcwalk.bench.solvers.loops.candidates import run_loops
+from mpcwalk.bench.solvers.peers.qpbenchmark_run import run_qpbenchmark_isolated
+from mpcwalk.bench.solvers.peers.ticks import fast_qpsolvers, tick_benchmark
+from mpcwalk.bench.solvers.problems.families import WalkingProblem, get_family
+from mpcwalk.bench.solvers.problems.sampling import reference_walk, sample_problems
 from mpcwalk.bench.solvers.results import RESULTS_FILE, write_results
-from mpcwalk.bench.solvers.sampling import reference_walk, sample_problems
-from mpcwalk.bench.solvers.side_runs import (
-    fast_qpsolvers,
-    run_loops,
-    run_qpbenchmark_isolated,
-    tick_benchmark,
-)
-from mpcwalk.bench.solvers.timed_solves import TimedSolves
+from mpcwalk.bench.solvers.solves.cases import SolverCase
+from mpcwalk.bench.solvers.solves.timed import TimedSolves
 from mpcwalk.bench.solvers.tolerances import select_levels
 from mpcwalk.sweep import map_tasks
 from mpcwalk.sweep.timing import run_isolated
@@ -109,7 +109,7 @@ def prepare_walk(family: str, walk: str, config: SolverBenchConfig) -> dict:
 
 def export_chunk(chunk: list, out_dir: Path, time_limit: float) -> list[str]:
     """Export some problems of the qpbenchmark test set (a task of the preparation)."""
-    from mpcwalk.bench.solvers.qpbenchmark_export import export_test_set
+    from mpcwalk.bench.solvers.peers.qpbenchmark_export import export_test_set
 
     return export_test_set(chunk, out_dir, time_limit=time_limit)
 
@@ -188,7 +188,7 @@ def run_solver_benchmark(
     Returns:
         A summary: paths, row count, durations of the stages [s].
     """
-    from mpcwalk.bench.solvers.report import write_report
+    from mpcwalk.bench.solvers.report.document import write_report
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -274,7 +274,7 @@ def run_solver_benchmark(
 def rewrite_report(out_dir: Path) -> Path:
     """Write ``report.md`` and the figures again from ``results.csv.gz`` and
     ``extras.json`` of a finished run (no solve is made)."""
-    from mpcwalk.bench.solvers.report import write_report
+    from mpcwalk.bench.solvers.report.document import write_report
     from mpcwalk.bench.solvers.results import read_results
 
     out_dir = Path(out_dir)

@@ -21,8 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mpcwalk.bench.solvers.backends import make_backend
-from mpcwalk.bench.solvers.problem_set import WalkingProblem, get_family
+from mpcwalk.bench.solvers.backends.registry import make_backend
+from mpcwalk.bench.solvers.problems.families import WalkingProblem, get_family
 from mpcwalk.bench.solvers.tolerances import ToleranceLevel
 from mpcwalk.qp.result import kkt_residuals
 
@@ -149,8 +149,8 @@ def _num(value: float | None) -> float:
     return math.nan if value is None else float(value)
 
 
-class CaseRunner:
-    """Runs cases in one process, keeping one QP object per problem structure."""
+class CaseSolver:
+    """Solves cases in one process, keeping one QP object per problem structure."""
 
     def __init__(self) -> None:
         self._qps: dict[tuple, object] = {}
@@ -163,15 +163,15 @@ class CaseRunner:
             self._qps[key] = family.build_qp(problem.horizon, formulation, problem.control_period)
         return self._qps[key]
 
-    def run(self, case: SolverCase) -> dict:
+    def solve(self, case: SolverCase) -> dict:
         """Solve ``case``; any error becomes a failed row, never an exception."""
         try:
-            return self._run(case)
+            return self._solve(case)
         except Exception as error:
             text = " ".join(f"{type(error).__name__}: {error}".split())[:160]
             return make_row(case, runtime=case.level.runtime, found=False, status=f"error: {text}")
 
-    def _run(self, case: SolverCase) -> dict:
+    def _solve(self, case: SolverCase) -> dict:
         problem = case.problem
         qp = self.qp(problem, case.formulation)
         # Matrices handed to solvers are cached by the QP; qpsolvers' sip edits its

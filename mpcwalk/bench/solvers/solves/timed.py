@@ -2,7 +2,7 @@
 
 Each of ``nb_workers`` timing actors (:class:`~mpcwalk.sweep.timing.TimingWorker`: one CPU
 slot of the Ray instance, single-threaded numerical libraries, output silenced) holds a
-:class:`~mpcwalk.bench.solvers.case_runner.CaseRunner` and solves one case at a time. A case
+:class:`~mpcwalk.bench.solvers.solves.cases.CaseSolver` and solves one case at a time. A case
 that runs past its hard limit (a back-end with no time limit of its own, or stuck) gets its
 actor killed and replaced, and becomes a failed row; so does a case whose actor dies.
 Following qpbenchmark's known timeouts, once two cases of a group (formulation, back-end,
@@ -15,7 +15,7 @@ import time
 from collections import deque
 from collections.abc import Callable, Iterable
 
-from mpcwalk.bench.solvers.case_runner import CaseRunner, SolverCase, make_row
+from mpcwalk.bench.solvers.solves.cases import CaseSolver, SolverCase, make_row
 from mpcwalk.sweep.timing import TimedCallFailed, TimingWorker, wait_any
 
 #: Timeouts in a group after which the rest of the group is skipped.
@@ -84,7 +84,7 @@ class TimedSolves:
                 on_row(row)
             bar.update(1)
 
-        workers = [TimingWorker(CaseRunner, address=self.address) for _ in range(self.nb_workers)]
+        workers = [TimingWorker(CaseSolver, address=self.address) for _ in range(self.nb_workers)]
         running: dict = {}  # reference -> (worker, case, deadline)
         try:
             while pending or running:
@@ -97,7 +97,7 @@ class TimedSolves:
                             record(_skipped(case), case)
                             continue
                         deadline = time.monotonic() + self.hard_limit(case)
-                        running[worker.submit("run", case)] = (worker, case, deadline)
+                        running[worker.submit("solve", case)] = (worker, case, deadline)
                         busy.add(id(worker))
                 if not running:
                     continue

@@ -1,0 +1,1 @@
+"""``report.md`` of the solver benchmark: its tables, text and figures."""

@@ -1,0 +1,2 @@
+"""The offline solves of the solver benchmark: one case solved and checked, and the timed
+solves on Ray timing actors."""
