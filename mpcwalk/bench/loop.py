@@ -172,20 +172,21 @@ def run_loop_benchmark(walks=DEFAULT_WALKS, *, progress: bool = True) -> list[Lo
     from tqdm import tqdm
 
     from mpcwalk.walking.runner import run_walk
+    from mpcwalk.walking.spec import WalkSpec
 
     floors: dict[str, PhysicsFloor] = {}
     cases = []
     for robot, generator, command, nb_steps, step_duration in tqdm(
         walks, desc="walks", disable=not progress
     ):
-        result = run_walk(
+        spec = WalkSpec.build(
             robot,
-            generator,
+            generator=generator,
             command=command,
             nb_steps=nb_steps,
             step_duration=step_duration,
-            progress=False,
         )
+        result = run_walk(spec)
         m, config = result.metrics, result.config
         if robot not in floors:
             floors[robot] = physics_floor(robot, control_period=float(config.control_period_s))

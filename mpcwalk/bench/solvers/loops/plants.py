@@ -218,23 +218,24 @@ def run_mujoco_loop(
     if run_walk is None:
         return None
     from mpcwalk.bench.solvers.problems.families import WALKS
+    from mpcwalk.walking.spec import WalkSpec
 
     command: VelocityCommand = WALKS[walk]
     empty = np.zeros(0)
     try:
-        result = run_walk(
+        spec = WalkSpec.build(
             robot,
-            "mpc",
+            generator="mpc",
             command=(command.vx, command.vy, command.vyaw),
             nb_steps=nb_steps,
             control_period=control_period,
-            progress=False,
             generator_options={
                 "solver": backend,
                 "formulation": formulation,
                 "solver_settings": backend_settings(backend, level),
             },
         )
+        result = run_walk(spec)
     except Exception as exc:
         text = f"{type(exc).__name__}: {' '.join(str(exc).split())[:140]}"
         return LoopRun(
