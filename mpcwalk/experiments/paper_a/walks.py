@@ -3,7 +3,7 @@ measured of it.
 
 Every controller walks the same robot (``atlas-like``) on the same path files with paper A's
 state machine re-aiming each step from the measured support foot
-(:class:`~mpcwalk.control.stabilizers.paper_a.PaperAStateMachine`); they differ in the
+(:class:`~mpcwalk.control.stabilizers.footstep_reaiming.FootstepReaiming`); they differ in the
 pattern generator, the stabilizer and the timing (:class:`TimedController`; the comparison's
 are in the ``config.toml`` beside this module).
 """
