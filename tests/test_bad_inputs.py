@@ -1,6 +1,6 @@
 """Every bad input is refused before anything runs, with a named error (what was expected,
 what came, the fix): exit code 2 on the command line, a ConfigurationError (an MpcwalkError)
-from the API, and nothing left in --out. ``experiments/faults/run.py`` tallies these cases
+from the API, and nothing left in --out. ``mpcwalk experiment run faults`` tallies these cases
 into ``results/faults/README.md``."""
 
 import math

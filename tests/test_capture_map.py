@@ -1,9 +1,10 @@
-"""The LIPM's push-recovery map along a robot's nominal walk."""
+"""The LIPM's push-recovery map along a robot's nominal walk, and the quick run of the
+experiment."""
 
 import pytest
 from conftest import get_robot
 
-from mpcwalk.experiments.capture_map import capture_map
+from mpcwalk.experiments.capture_map.cells import capture_map
 
 
 @pytest.fixture(scope="module")
@@ -109,3 +110,26 @@ def test_towards_the_stance_leg_even_fast_steps_add_nothing_to_the_ankle():
         for n in range(3)
     ]
     assert right[1] > right[0] + 0.1
+
+
+@pytest.mark.slow
+def test_the_quick_capture_map(tmp_path):
+    """`mpcwalk experiment run capture_map --quick`: bioloid-like's map on 4 directions and
+    2 phases in one row, its table (the medians of the cells) and its figure."""
+    import statistics
+
+    from mpcwalk.cli import main as cli_main
+    from mpcwalk.sweep import read_rows
+
+    out = tmp_path / "capture_map"
+    command = ["experiment", "run", "capture_map", "--quick", "--out", str(out), "--no-progress"]
+    assert cli_main(command) == 0
+    (row,) = read_rows(out / "results.csv")
+    assert row["robot"] == "bioloid-like" and len(row["cells"]) == 4 * 2
+    expected = capture_map(get_robot("bioloid-like"), nb_directions=4, nb_phases=2)
+    assert [c["fixed"] for c in row["cells"]] == [list(c.fixed) for c in expected]
+    report = (out / "report.md").read_text()
+    one_step = statistics.median(c.fixed[1] for c in expected)
+    assert f"| bioloid-like | 1 | {one_step:.2f} |" in report
+    assert "mpcwalk experiment run capture_map --quick" in report
+    assert (out / "capture_map_bioloid-like.png").stat().st_size > 1000

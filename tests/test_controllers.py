@@ -21,7 +21,7 @@ from mpcwalk.walking.runner import run_walk
 from mpcwalk.walking.spec import CONTROLLERS, ControllerSpec, WalkSpec
 
 ROOT = Path(__file__).resolve().parent.parent
-PATHS = ROOT / "experiments" / "paper_a"
+PATHS = ROOT / "mpcwalk" / "experiments" / "paper_a" / "paths"
 F1_F2 = ["0,0.1,0,5,0", "3.0,0.05,10,5,0"]  # paper M Fig. 2: (0, 5, 0) N at rest, (10, 5, 0) N
 
 

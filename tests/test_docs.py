@@ -78,7 +78,7 @@ def test_the_site_builds_strictly(tmp_path):
 
 
 def test_the_notebooks_find_the_committed_results_from_any_folder(tmp_path):
-    from mpcwalk.experiments.results_folder import find_results
+    from mpcwalk.experiments.reporting import find_results
 
     found = find_results("solvers", start=tmp_path)
     assert found is not None and found == ROOT / "results" / "solvers"

@@ -2,7 +2,7 @@
 that returns NaN, garbage, nothing or raises, a sensor stream with NaN and dropouts. Each is
 survived (counted, the walk goes on) or ends the walk as a controlled stop (outcome
 ``stopped``, exit code 3) with the log and the metrics written; NaN never reaches the
-actuators. ``experiments/faults/run.py`` tallies these cases into ``results/faults/README.md``."""
+actuators. ``mpcwalk experiment run faults`` tallies these cases into ``results/faults/report.md``."""
 
 import json
 

@@ -1,6 +1,5 @@
 """Paper A's footstep path files (.mdat) and plans built from them."""
 
-import importlib.util
 import math
 from pathlib import Path
 
@@ -23,7 +22,7 @@ from mpcwalk.footsteps.mdat import (
 )
 from mpcwalk.footsteps.reachability import ATLAS_REACHABILITY
 
-PAPER_A = Path(__file__).resolve().parent.parent / "experiments" / "paper_a"
+PAPER_A = Path(__file__).resolve().parent.parent / "mpcwalk" / "experiments" / "paper_a" / "paths"
 GOOD_LINE = "0 0.12 0 1 0 0 0 0 -0.12 0 1 0 0 0"
 
 
@@ -219,9 +218,8 @@ def test_shipped_path_geometry():
 
 
 def test_generator_reproduces_the_shipped_files(tmp_path, monkeypatch):
-    spec = importlib.util.spec_from_file_location("make_paths", PAPER_A / "make_paths.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    from mpcwalk.experiments.paper_a import make_paths as module
+
     monkeypatch.setattr(module, "HERE", tmp_path)
     module.main()
     for name in ("straight", "turning"):

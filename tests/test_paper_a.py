@@ -1,7 +1,5 @@
 """Paper A: state machine, clamping with carried remainder, path errors, closed-loop walk."""
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 from conftest import get_robot
@@ -21,10 +19,10 @@ from mpcwalk.exceptions import (
     InfeasibleStep,
     StabilizerNotFound,
 )
-from mpcwalk.experiments.paper_a import (
-    PAPER_A_ROW,
-    ControllerSpec,
-    format_table,
+from mpcwalk.experiments.paper_a.config import DEFAULT_SPECS, PATHS_DIR, load_config
+from mpcwalk.experiments.paper_a.table import PAPER_A_LABEL, PAPER_A_ROW, format_table
+from mpcwalk.experiments.paper_a.walks import (
+    TimedController,
     placement_errors,
     table_row,
     walk_path,
@@ -36,8 +34,7 @@ from mpcwalk.footsteps.reachability import ATLAS_REACHABILITY
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.swing_foot import FeetState
 
-ROOT = Path(__file__).resolve().parent.parent
-STRAIGHT = ROOT / "experiments" / "paper_a" / "straight.mdat"
+STRAIGHT = PATHS_DIR / "straight.mdat"
 LINE = "{xl} {yl} 0 1 0 0 0 {xr} {yr} 0 1 0 0 0"
 
 
@@ -201,6 +198,50 @@ def test_stabilizer_names():
         AnkleImuStabilizer(kp=-1.0)
 
 
+def test_the_shipped_comparison_is_paper_a_gait_the_static_qp_and_the_mpc():
+    assert [(s.generator, s.step_duration, s.double_support_ratio) for s in DEFAULT_SPECS] == [
+        ("static", 12.0, 0.2),
+        ("static", 3.5, 0.5),
+        ("static-qp", 12.0, 0.2),
+        ("static-qp", 3.0, 0.5),
+        ("mpc", 1.0, 0.2),
+        ("mpc", 0.8, 0.2),
+        ("mpc", 0.6, 0.2),
+    ]
+    assert DEFAULT_SPECS[0].label == PAPER_A_LABEL and DEFAULT_SPECS[0].ankle_imu
+    assert DEFAULT_SPECS[3].generator_options == (("com_margin", 0.04), ("zmp_margin", 0.03))
+    assert [s.swing_profile for s in DEFAULT_SPECS[:3]] == ["ctraj", "ctraj", "cosine"]
+    assert DEFAULT_SPECS[0].controller().stabilizers == ("reaim", "ankle-imu")
+    quick = load_config(quick=True)
+    assert [s.label for s in quick.specs] == ["mpc, 1.0 s"] and quick.nb_steps == 2
+    assert sorted(p.name for p in PATHS_DIR.glob("*.mdat")) == ["straight.mdat", "turning.mdat"]
+
+
+@pytest.mark.slow
+def test_the_quick_paper_a_table(tmp_path):
+    """`mpcwalk experiment run paper_a --quick`: the MPC at 1 s per step, two steps of the
+    straight path: its row, its top view and placement errors, paper A's row above it."""
+    from mpcwalk.cli import main as cli_main
+    from mpcwalk.sweep import read_rows
+
+    out = tmp_path / "paper_a"
+    command = ["experiment", "run", "paper_a", "--quick", "--out", str(out), "--no-progress"]
+    assert cli_main(command) == 0
+    (row,) = read_rows(out / "results.csv")
+    assert row["case_id"] == "straight/mpc, 1.0 s" and not row["error"]
+    assert row["row"]["steps"] == "2/2" and not row["row"]["fell"]
+    assert len(row["position_errors_cm"]) == 2
+    assert row["row"]["position_error_mean_cm"] == pytest.approx(
+        np.mean(row["position_errors_cm"]), rel=1e-9
+    )
+    assert 0.0 < row["row"]["position_error_max_cm"] < 1.5
+    report = (out / "report.md").read_text()
+    assert "paper A (Atlas, DRCsim, reported)" in report and "| mpc, 1.0 s | straight |" in report
+    assert "mpcwalk experiment run paper_a --quick" in report
+    for name in ("top_straight_mpc_1s.png", "placement_errors_straight.png"):
+        assert (out / name).stat().st_size > 1000
+
+
 def test_table_has_paper_a_row_first():
     table = format_table([])
     assert "paper A (Atlas, DRCsim, reported)" in table.splitlines()[2]
@@ -211,7 +252,7 @@ def test_table_has_paper_a_row_first():
 def test_straight_walk_mpc_meets_the_placement_goals():
     """The issue's goal for the best QP controller, on the whole straight path at 1 s/step:
     mean position error < 0.5 cm, max < 1.5 cm, yaw mean < 0.2 deg, max < 1 deg, no fall."""
-    spec = ControllerSpec("mpc, 1.0 s", "mpc", 1.0)
+    spec = TimedController("mpc, 1.0 s", "mpc", 1.0)
     result = walk_path(spec, STRAIGHT)
     row = table_row(spec, "straight", result)
     assert not row["fell"]
@@ -229,7 +270,7 @@ def test_straight_walk_mpc_meets_the_placement_goals():
 def test_paper_a_gait_walks_with_ankle_imu():
     """Paper A's gait (static generator + ankle-imu + re-aiming), shortened, at the
     fastest upright timing found (3.5 s, r_ds 0.5), 3 steps."""
-    spec = ControllerSpec(
+    spec = TimedController(
         "paper A", "static", 3.5, double_support_ratio=0.5, ankle_imu=True, swing_profile="ctraj"
     )
     result = walk_path(spec, STRAIGHT, nb_steps=3)
@@ -244,50 +285,12 @@ def test_ankle_strategy_makes_the_difference_at_three_seconds_a_step():
     """Faster (3 s per step) the ankle strategy and IMU correction make the difference over
     four steps (on the whole path it still falls, at step 7, and at step 2 without them)."""
     fast = dict(double_support_ratio=0.5, swing_profile="ctraj")
-    without = walk_path(ControllerSpec("b", "static", 3.0, **fast), STRAIGHT, nb_steps=4)
+    without = walk_path(TimedController("b", "static", 3.0, **fast), STRAIGHT, nb_steps=4)
     assert without.fall.fell
     with_ankle = walk_path(
-        ControllerSpec("a", "static", 3.0, ankle_imu=True, **fast), STRAIGHT, nb_steps=4
+        TimedController("a", "static", 3.0, ankle_imu=True, **fast), STRAIGHT, nb_steps=4
     )
     assert not with_ankle.fall.fell
-
-
-def test_walk_cli_builds_paper_a_stabilizer():
-    import argparse
-
-    from mpcwalk.walking.cli import _stabilizer, _swing_profile, add_walk_parser
-
-    parser = argparse.ArgumentParser()
-    add_walk_parser(parser.add_subparsers())
-    # The issue's command for paper A's gait: re-aiming is on for path files, and paper A's
-    # stabilizer brings paper A's quintic Cartesian swing.
-    args = parser.parse_args(
-        [
-            "walk",
-            "--robot",
-            "atlas-like",
-            "--generator",
-            "static",
-            "--stabilizer",
-            "ankle-imu",
-            "--path",
-            str(STRAIGHT),
-            "--out",
-            "unused",
-        ]
-    )
-    assert _stabilizer(args).name == "reaim+ankle-imu"
-    assert _swing_profile(args) == "ctraj"
-    args = parser.parse_args(["walk", "--path", str(STRAIGHT), "--out", "unused"])
-    assert _stabilizer(args).name == "reaim" and _swing_profile(args) == "cosine"
-    args = parser.parse_args(["walk", "--path", str(STRAIGHT), "--no-reaim", "--out", "unused"])
-    assert _stabilizer(args) is None
-    args = parser.parse_args(["walk", "--out", "unused"])
-    assert _stabilizer(args) is None
-    args = parser.parse_args(["walk", "--stabilizer", "gyro", "--out", "unused"])
-    assert _stabilizer(args).name == "gyro" and _swing_profile(args) == "cosine"
-    with pytest.raises(SystemExit):
-        parser.parse_args(["walk", "--stabilizer", "gyros", "--out", "unused"])
 
 
 @pytest.mark.parametrize(

@@ -1,10 +1,10 @@
 """Paper M's experiments: capturability bounds, bisection, a real push case, yaw deviation,
-turning summary, the table and the one-command runner."""
+turning summary, the table and the quick run of the experiment."""
 
-import importlib.util
 import json
 import math
 import os
+from dataclasses import asdict
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -12,45 +12,47 @@ import numpy as np
 import pytest
 
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.experiments.paper_m import (
+from mpcwalk.experiments.paper_m.config import PaperMConfig, TurningConfig, load_config
+from mpcwalk.experiments.paper_m.push_grid import (
+    CaseResult,
+    PushSweepConfig,
+    SweepCase,
+    summarize_sweep,
+)
+from mpcwalk.experiments.paper_m.table import format_report, format_table, goal_checks, table_rows
+from mpcwalk.experiments.paper_m.walks import (
     CONTROLLERS,
-    PaperMConfig,
-    TurningConfig,
     controller_availability,
-    load_config,
     push_case_task,
     turning_summary,
     walk_task,
 )
-from mpcwalk.experiments.paper_m_table import format_readme, format_table, goal_checks, table_rows
-from mpcwalk.experiments.push_sweep import (
-    CaseResult,
-    PushSweepConfig,
-    SweepCase,
-    capture_impulse_bound,
-    find_largest_survived,
-    rectangle_ray_distance,
-    summarize_sweep,
-)
+from mpcwalk.experiments.survival import find_largest_survived
+from mpcwalk.footsteps.capturability import Box, capture_impulse_bound
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.sim import ExternalForce
 from mpcwalk.sweep import WorkerDied, map_tasks
 from mpcwalk.walking.metrics import yaw_deviation_deg
+from mpcwalk.walking.spec import ControllerSpec
 
 ROOT = Path(__file__).resolve().parent.parent
 MASS, HEIGHT = 2.02, 0.23
 OMEGA = math.sqrt(9.81 / HEIGHT)
 
 
-def test_rectangle_ray_distance_reaches_the_sole_border():
-    assert rectangle_ray_distance(0.0, 0.05, 0.05, 0.03) == pytest.approx(0.05)
-    assert rectangle_ray_distance(math.pi / 2, 0.05, 0.05, 0.03) == pytest.approx(0.03)
-    assert rectangle_ray_distance(math.pi, 0.08, 0.04, 0.04) == pytest.approx(0.04)
+def _ray(direction, forward, backward, lateral):
+    return Box(-backward, forward, -lateral, lateral).ray_distance((0.0, 0.0), direction)
+
+
+def test_the_ray_from_the_foot_centre_reaches_the_sole_border():
+    assert _ray(0.0, 0.05, 0.05, 0.03) == pytest.approx(0.05)
+    assert _ray(math.pi / 2, 0.05, 0.05, 0.03) == pytest.approx(0.03)
+    assert _ray(math.pi, 0.08, 0.04, 0.04) == pytest.approx(0.04)
     # 45 deg: the lateral side is hit first, at 0.03 / sin(45 deg)
-    assert rectangle_ray_distance(math.pi / 4, 0.05, 0.05, 0.03) == pytest.approx(0.03 * 2**0.5)
+    assert _ray(math.pi / 4, 0.05, 0.05, 0.03) == pytest.approx(0.03 * 2**0.5)
     # 20 deg: the front side, at 0.05 / cos(20 deg)
     angle = math.radians(20.0)
-    assert rectangle_ray_distance(angle, 0.05, 0.05, 0.03) == pytest.approx(0.05 / math.cos(angle))
+    assert _ray(angle, 0.05, 0.05, 0.03) == pytest.approx(0.05 / math.cos(angle))
 
 
 def test_capture_impulse_bound_values():
@@ -223,7 +225,7 @@ def test_turning_summary_on_an_ideal_yaw():
     from mpcwalk.footsteps.footstep import StepTiming
     from mpcwalk.gait.contact_schedule import ContactSchedule
     from mpcwalk.robot.loading import load_robot
-    from mpcwalk.walking.runner import plan_walk_footsteps
+    from mpcwalk.walking.footstep_planning import plan_walk_footsteps
 
     config = TurningConfig()
     robot = load_robot("bioloid-like", visual=False)
@@ -265,7 +267,7 @@ def _synthetic_results():
     summary = summarize_sweep(cases, config)
     dist = {"fell": False, "yaw_deviation_deg": 4.0}
     return config, {
-        "command": "python experiments/paper_m/run.py --quick",
+        "command": "mpcwalk experiment run paper_m --quick --out out",
         "mode": "quick",
         "config": {
             "turning": vars(TurningConfig()) | {"command": [0.1, 0.0, 0.349]},
@@ -273,7 +275,7 @@ def _synthetic_results():
             "push_sweep": vars(config),
             "speed": {"nb_steps": 10, "step_durations": [0.5]},
         },
-        "controllers": {"paper-m": CONTROLLERS["paper-m"], "mpc": CONTROLLERS["mpc"]},
+        "controllers": {n: asdict(CONTROLLERS[n]) for n in ("paper-m", "mpc")},
         "skipped": {"mpc-steps": "no generator 'mpc-steps'"},
         "wall_time_s": 12.0,
         "workers": 2,
@@ -345,7 +347,7 @@ def test_sweep_summary_table_and_goals_on_synthetic_results():
     assert "paper M (reported" in lines[2] and "| 70.0 |" in lines[2]
     assert lines[3].startswith("| paper-m | yes | 50.0 | 15.00 | -25.0 | yes | 11.00 (fell) |")
     assert "| 0.50 (fell) |" in lines[3] and "| 0.40 |" in lines[4] and "| 2.75 |" in lines[4]
-    readme = format_readme(
+    readme = format_report(
         {**results, "rows": rows, "goals": goal_checks(rows), "figures": ["push_polar.png"]}
     )
     assert table in readme and "**met**: mpc, impulse >= 1.5 x paper-m (2.75)" in readme
@@ -354,14 +356,13 @@ def test_sweep_summary_table_and_goals_on_synthetic_results():
 
 
 def test_config_file_matches_the_defaults_and_quick_is_smaller():
-    full, quick = load_config(mode="full"), load_config(mode="quick")
+    full, quick = load_config(), load_config(quick=True)
     assert full == PaperMConfig()
-    assert quick.turning.command == full.turning.command
+    assert quick.turning.command == full.turning.command and quick.mode == "quick"
     cells = len(quick.push_sweep.directions_deg) * len(quick.push_sweep.phases)
     assert cells < len(full.push_sweep.directions_deg) * len(full.push_sweep.phases)
+    assert quick.controllers == ("paper-m", "mpc") and full.controllers is None
     assert full.disturbance.last_push_end == pytest.approx(3.05)
-    with pytest.raises(ConfigurationError, match="mode must be 'full' or 'quick'"):
-        load_config(mode="fast")
 
 
 def test_config_file_errors_name_the_key(tmp_path):
@@ -373,21 +374,26 @@ def test_config_file_errors_name_the_key(tmp_path):
         r"\[push_sweep\]",
     ):
         load_config(path)
+    path.write_text("parts = ['push', 'jump']\n")
+    with pytest.raises(ConfigurationError, match=r"Unknown part\(s\) \['jump'\]"):
+        load_config(path)
 
 
 def test_controller_availability_names_what_is_missing():
     reasons = controller_availability(
         {
-            "ok": {"generator": "analytic", "feedback": False, "stabilizer": None},
-            "no-gen": {"generator": "teleport", "feedback": True},
-            "no-arg": {"generator": "mpc", "levitate": 1.0},
-            "no-stab": {"generator": "mpc", "stabilizer": "magic"},
+            "ok": ControllerSpec(generator="analytic", feedback=False, stabilizers=("gyro",)),
+            "no-gen": ControllerSpec(generator="teleport"),
+            "no-stab": ControllerSpec(generator="mpc", stabilizers=("reaim", "magic")),
         }
     )
     assert reasons["ok"] is None
     assert reasons["no-gen"] == "no generator 'teleport'"
-    assert reasons["no-arg"] == "run_walk has no argument(s) ['levitate']"
     assert reasons["no-stab"] == "no stabilizer 'magic'"
+    assert all(reason is None for reason in controller_availability().values())
+    assert CONTROLLERS["analytic+gyro"].stabilizers == ("gyro",)
+    assert CONTROLLERS["analytic+gyro"].generator == "analytic"
+    assert CONTROLLERS["mpc-steps-qp-only"].generator_options == {"dcm_step_gain": 0.0}
 
 
 def test_map_tasks_keeps_the_order_on_ray_workers():
@@ -405,58 +411,44 @@ def test_map_tasks_keeps_the_order_on_ray_workers():
 
 
 @pytest.mark.slow
-def test_runner_writes_table_json_and_figures(tmp_path):
-    """The one command on a tiny grid: one controller, one push cell, a short turning walk."""
-    spec = importlib.util.spec_from_file_location(
-        "paper_m_run", ROOT / "experiments" / "paper_m" / "run.py"
-    )
-    run = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(run)
-    config = tmp_path / "tiny.toml"
-    config.write_text(
-        "[turning]\nwalking_duration = 1.5\n"
-        "[push_sweep]\ndirections_deg = [90.0]\nphases = ['ss-mid']\ntolerance = 0.1\n"
-        "relative_tolerance = 0.5\n"
-    )
-    out = tmp_path / "out"
-    assert (
-        run.main(
-            [
-                "--out",
-                str(out),
-                "--quick",
-                "--config",
-                str(config),
-                "--controllers",
-                "paper-m-open",
-                "--experiments",
-                "turning",
-                "push",
-                "--workers",
-                "1",
-                "--no-progress",
-            ]
-        )
-        == 0
-    )
+def test_the_quick_experiment_writes_its_table_report_and_figures(tmp_path):
+    """`mpcwalk experiment run paper_m --quick`: paper-m and mpc on one push cell, one speed
+    search, a short turning walk and the disturbances; the rows of the sweep, the table
+    built from them, the figures."""
+    from mpcwalk.cli import main as cli_main
+    from mpcwalk.sweep import read_rows
+
+    out = tmp_path / "paper_m"
+    command = ["experiment", "run", "paper_m", "--quick", "--out", str(out), "--no-progress"]
+    assert cli_main(command) == 0
+    rows = {row["case_id"]: row for row in read_rows(out / "results.csv")}
+    assert sorted(rows) == [
+        "push/mpc/90/ss-mid",
+        "push/paper-m/90/ss-mid",
+        "speed/mpc/0.5",
+        "speed/paper-m/0.5",
+    ]
     results = json.loads((out / "results.json").read_text())
-    assert results["mode"] == "quick" and list(results["controllers"]) == ["paper-m-open"]
-    assert len(results["push_sweep"]["cases"]) == 1
-    row = results["rows"][0]
-    (case,) = results["push_sweep"]["cases"]
-    assert row["controller"] == "paper-m-open" == case["controller"]
-    # the row's impulse is the one cell's bisection result: the largest impulse it survived
-    survived = [impulse for impulse, ok in case["trials"] if ok]
-    assert case["largest_survived_Ns"] == pytest.approx(max(survived, default=0.0), abs=1e-6)
-    assert row["impulse_median_Ns"] == pytest.approx(case["largest_survived_Ns"])
-    assert row["impulse_median_Ns"] > 0.0
-    assert row["turning_yaw_deg"] is None  # 1.5 s of walking: no yaw after 3.5 s
-    readme = (out / "README.md").read_text()
-    assert "| paper-m-open |" in readme and "--quick" in readme
+    assert results["mode"] == "quick" and list(results["controllers"]) == ["paper-m", "mpc"]
+    for name in ("paper-m", "mpc"):
+        cell = rows[f"push/{name}/90/ss-mid"]
+        # the row's impulse is the cell's bisection result: the largest impulse it survived
+        survived = [impulse for impulse, ok in cell["trials"] if ok]
+        assert cell["largest_survived_Ns"] == pytest.approx(max(survived, default=0.0), abs=1e-6)
+        row = next(r for r in results["rows"] if r["controller"] == name)
+        assert row["impulse_median_Ns"] == pytest.approx(cell["largest_survived_Ns"])
+        assert 0.0 < cell["largest_survived_Ns"] < 4.0
+        speed = rows[f"speed/{name}/0.5"]
+        assert 0.0 < speed["fastest_m_s"] <= speed["bound_m_s"]
+        assert row["turning_yaw_rate_deg_s"] is not None and not row["turning_fell"]
+        assert row["yaw_deviation_deg"] > 0.0
+    report = (out / "report.md").read_text()
+    assert "| paper-m |" in report and "mpcwalk experiment run paper_m --quick" in report
+    assert "## Goals" in report and "neither fell nor was stopped" in report
     for name in (
-        "turning_top_paper-m-open.png",
+        "turning_top_mpc.png",
         "turning_attitude.png",
+        "disturbance_mpc.png",
         "push_polar.png",
-        "push_heatmap.png",
     ):
         assert (out / name).stat().st_size > 1000

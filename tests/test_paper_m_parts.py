@@ -24,9 +24,9 @@ from mpcwalk.footsteps.footstep import FootGeometry, FootstepPlan
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators import make_generator
 from mpcwalk.models.lipm import LIPM
+from mpcwalk.walking.footstep_planning import plan_walk_footsteps
 from mpcwalk.walking.metrics import attitude_metrics as _attitude_metrics
 from mpcwalk.walking.metrics import yaw_deviation_deg
-from mpcwalk.walking.runner import plan_walk_footsteps
 
 
 def schedule_for(robot, nb_steps=4, vx=0.1):
@@ -348,17 +348,20 @@ def test_gyro_stabilizer_damps_the_open_loop_closed_form():
     the default sensors, one control period of latency); the stabilizer lowers the largest
     roll (2.90 deg without, 2.50 deg with, measured)."""
     from mpcwalk.walking.runner import run_walk
+    from mpcwalk.walking.spec import ControllerSpec, WalkSpec
 
     robot = get_robot("bioloid-like")
     runs = {
         name: run_walk(
-            robot,
-            "analytic",
-            command=(0.1, 0.0, 0.0),
-            duration=6.0,
-            feedback=False,
-            stabilizer=name,
-            progress=False,
+            WalkSpec.build(
+                "bioloid-like",
+                controller=ControllerSpec(
+                    generator="analytic", feedback=False, stabilizers=(name,)
+                ),
+                command=(0.1, 0.0, 0.0),
+                duration=6.0,
+            ),
+            robot=robot,
         ).metrics
         for name in ("none", "gyro")
     }

@@ -1,5 +1,5 @@
 """The controllers' push map: its grid against the LIPM's, its report and its goals, joined
-maps, and the command on a one-cell grid."""
+maps, and the quick run of the experiment."""
 
 import json
 import math
@@ -9,9 +9,9 @@ from conftest import get_robot
 
 from mpcwalk.cli import main as cli_main
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.experiments.capture_map import capture_map
-from mpcwalk.experiments.push_map import PushMapConfig, joined_push_rows, push_map_cases
-from mpcwalk.experiments.push_report import (
+from mpcwalk.experiments.capture_map.cells import capture_map
+from mpcwalk.experiments.push_map.cases import PushMapConfig, joined_push_rows, push_map_cases
+from mpcwalk.experiments.push_map.report import (
     best_controller,
     double_support_text,
     goals_text,
@@ -129,26 +129,41 @@ def test_joined_maps_must_share_the_robot_and_the_grid(tmp_path):
 
 
 @pytest.mark.slow
-def test_the_command_runs_a_cell_and_joins_a_controller_run_apart(tmp_path, capsys):
-    """paper-m in one folder, paper-m-open (which falls unpushed) in another joined to it:
-    one report of both, with the LIPM's bounds of the cell."""
-    grid = ["--robot", "bioloid-like", "--directions", "1", "--phases", "1", "--speeds", "1"]
-    engine = ["--workers", "1", "--no-progress"]
-    first, second = tmp_path / "paper-m", tmp_path / "joined"
-    assert (
-        cli_main(["sweep", "push", *grid, "--controllers", "paper-m", "--out", str(first), *engine])
-        == 0
-    )
-    args = ["sweep", "push", *grid, "--controllers", "paper-m-open", "--with", str(first)]
-    assert cli_main([*args, "--out", str(second), *engine]) == 0
-    report = (second / "report.md").read_text()
-    assert "| paper-m |" in report and "| paper-m-open |" in report
-    (bound,) = json.loads((second / "lipm_bounds.json").read_text())
+def test_the_quick_push_map_and_a_map_joined_to_it(tmp_path):
+    """`mpcwalk experiment run push_map --quick`: paper-m and mpc in one cell of
+    bioloid-like's map, in its sub-folder, with the LIPM's bounds of the cell; a map of
+    paper-m-open (which falls unpushed) run apart on the same grid joins its report."""
+    from mpcwalk.experiments.push_map.cases import push_map_sweep
+    from mpcwalk.experiments.push_map.experiment import PushMap
+    from mpcwalk.experiments.push_map.report import write_push_report
+    from mpcwalk.sweep import read_rows, run_sweep
+
+    out = tmp_path / "push_map"
+    command = ["experiment", "run", "push_map", "--quick", "--out", str(out), "--no-progress"]
+    assert cli_main(command) == 0
+    folder = out / "bioloid-like"
+    rows = read_rows(folder / "results.csv")
+    assert sorted(r["controller"] for r in rows) == ["mpc", "paper-m"]
+    for row in rows:
+        assert not row["error"] and 0.0 < row["largest_survived_Ns"] <= 3 * row["capture_bound_Ns"]
+        assert row["nb_walks"] == len(row["trials"]) >= 2
+    (bound,) = json.loads((folder / "lipm_bounds.json").read_text())
     assert bound["direction_deg"] == 0.0 and bound["phase"] == 0.5 and bound["single_support"]
     assert math.isfinite(bound["fixed"][1]) and bound["fixed"][1] > 0.0
-    assert (second / "push_polar_speed1.png").stat().st_size > 1000
-    # a joined folder of another grid is refused before anything runs
-    bad = ["sweep", "push", "--directions", "2", "--controllers", "mpc", "--with", str(first)]
-    assert cli_main([*bad, "--out", str(tmp_path / "bad"), *engine]) == 2
-    assert "expected a push map on the same robot and grid" in capsys.readouterr().err
-    assert not (tmp_path / "bad").exists()
+    assert (folder / "push_polar_speed1.png").stat().st_size > 1000
+    report = (out / "report.md").read_text()
+    assert "## bioloid-like" in report and "| paper-m |" in report and "| mpc |" in report
+    assert "mpcwalk experiment run push_map --quick" in (folder / "report.md").read_text()
+    # another controller on the same grid, run apart, joined to the report
+    (config,) = PushMap().config(quick=True).maps
+    from dataclasses import replace
+
+    apart = replace(config, controllers=("paper-m-open",))
+    run_sweep(push_map_sweep(apart), tmp_path / "apart", workers=1, progress=False)
+    joined = joined_push_rows(config, [tmp_path / "apart"])
+    assert [r["controller"] for r in joined] == ["paper-m-open"]
+    path = write_push_report(tmp_path / "apart", [*rows, *joined], config, "")
+    assert "| paper-m-open |" in path.read_text()
+    # a joined folder of another grid is refused
+    with pytest.raises(ConfigurationError, match="expected a push map on the same robot and grid"):
+        joined_push_rows(replace(config, nb_directions=2), [tmp_path / "apart"])

@@ -1,184 +1,120 @@
-"""The robustness experiment: its cases, its tables, and a quick run of its script."""
+"""The robustness matrix: its configuration, its worlds, its cells and report on known rows,
+and the quick run of the experiment."""
 
+import csv
 import json
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
-from conftest import get_robot
 
+from mpcwalk.cli import main as cli_main
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.experiments.robustness import (
-    DEFAULT_CONFIG,
-    RobustnessCase,
-    RobustnessResults,
-    build_cases,
-    estimator_tasks,
-    load_config,
-    robustness_tasks,
-)
-from mpcwalk.experiments.robustness_report import (
-    case_tables,
-    estimator_summary,
-    falls_table,
-    format_readme,
-)
-
-ROOT = Path(__file__).resolve().parent.parent
+from mpcwalk.experiments.reporting import wilson
+from mpcwalk.experiments.robustness.cells import cell_rows, rate, rate_text
+from mpcwalk.experiments.robustness.config import DEFAULT_MATRIX, load_matrix_config
+from mpcwalk.experiments.robustness.report import worst_cases
+from mpcwalk.experiments.robustness.worlds import FACTORS, robot_worlds
+from mpcwalk.experiments.survival import survived
+from mpcwalk.sweep import read_rows
 
 
-def test_the_full_table_has_the_cases_of_the_issue():
-    config = load_config()
-    names = [case.name for case in config.cases]
-    singles = [
-        "nominal",
-        "mass x0.7",
-        "mass x1.3",
-        "com +1 cm x",
-        "com -1 cm x",
-        "com +1 cm y",
-        "com -1 cm y",
-        "friction 0.4",
-        "latency 2",
-        "noise x2",
-    ]
-    # mass x1.3 with each of the others that changes something else (7 combinations)
-    combined = [f"mass x1.3 + {name}" for name in singles[3:]]
-    assert names == singles + combined
-    assert set(config.robots) == {"bioloid-like", "g1"}
-    assert [walk.name for walk in config.robots["g1"]] == ["forward", "turning"]
-    assert all(walk.nb_steps == 20 for walks in config.robots.values() for walk in walks)
-    assert set(config.generators) == {
-        "analytic",
-        "preview",
-        "mpc",
-        "mpc-steps",
-        "static",
-        "static-qp",
-    }
-    by_name = {case.name: case for case in config.cases}
-    assert by_name["mass x1.3 + latency 2"].walk_arguments(0.01) == {
-        "mass_scale": 1.3,
-        "latency": 0.02,
-    }
-    assert by_name["mass x1.3 + com -1 cm y"].walk_arguments(0.01) == {
-        "mass_scale": 1.3,
-        "com_offset": (0.0, -0.01),
-    }
-    assert set(config.estimator_walks) == {"bioloid-like", "g1", "atlas-like"}
-    assert config.estimator_seeds == (0, 1, 2, 3, 4)
-    estimator = estimator_tasks(config, "out")
-    assert len(estimator) == 15  # 3 robots, 5 seeds; a figure for the first seed only
-    assert [args[4] for _, args in estimator[:2]] == ["out/estimator_bioloid-like.png", None]
-    tasks = robustness_tasks(config)
-    assert len(tasks) == 2 * 2 * 17 * 6  # robots, walks, cases, generators
-    # the static gaits take the same steps 4 times slower, half of each in double support
-    static = next(args for _, args in tasks if args[1] == "static")
-    assert static[2].command == (0.025, 0.0, 0.0)
-    assert static[2].walk_arguments(get_robot("bioloid-like")) == {
-        "command": (0.025, 0.0, 0.0),
-        "nb_steps": 20,
-        "step_duration": 2.0,
-        "double_support_ratio": 0.5,
-    }
+def test_the_full_matrix_and_its_quick_form():
+    full, quick = load_matrix_config(), load_matrix_config(quick=True)
+    assert list(full.robots) == ["bioloid-like", "g1", "atlas-like"] and full.mode == "full"
+    assert list(quick.robots) == ["bioloid-like"] and quick.mode == "quick"
+    assert quick.robots["bioloid-like"].controllers == ("paper-m-open", "mpc")
+    worlds = robot_worlds(full, 0)
+    singles = [w for w in worlds if w.group == "single"]
+    assert len(singles) == len(FACTORS) * full.levels
+    assert sum(w.group == "combination" for w in worlds) == full.combinations
+    assert len({w.seed for w in worlds if w.group != "nominal"}) == len(worlds) - 2
+    # the same draws every time: the configuration is the matrix
+    assert robot_worlds(full, 0) == worlds
 
 
-def test_quick_mode_is_a_handful_of_walks():
-    config = load_config(mode="quick")
-    assert [case.name for case in config.cases] == [
-        "nominal",
-        "mass x1.3",
-        "mass x1.3 + com +1 cm x",
-    ]
-    assert list(config.robots) == ["bioloid-like"] and config.generators == ("mpc",)
-    assert not config.estimator_walks
+def test_a_malformed_matrix_is_a_named_error(tmp_path):
+    path = tmp_path / "matrix.toml"
+    path.write_text(DEFAULT_MATRIX.read_text().replace("[factors]", "[factor]"))
+    with pytest.raises(ConfigurationError, match="Malformed matrix file"):
+        load_matrix_config(path)
 
 
-def test_combinations_skip_the_same_quantity_and_unknown_bases_are_errors():
-    heavy = RobustnessCase("heavy", {"mass_scale": 1.3})
-    cases = build_cases(
-        [RobustnessCase("nominal"), heavy, RobustnessCase("light", {"mass_scale": 0.7})],
-        "heavy",
-    )
-    assert [case.name for case in cases] == ["nominal", "heavy", "light"]
-    with pytest.raises(ConfigurationError, match="combine_with = 'nope' is not a case"):
-        build_cases([heavy], "nope")
-    with pytest.raises(ConfigurationError, match="mode must be 'full' or 'quick'"):
-        load_config(DEFAULT_CONFIG, mode="fast")
-
-
-def _row(case, generator, fell):
+def _row(controller, factor, outcome, **extra):
     return {
+        "case_id": f"{controller}-{factor}",
         "robot": "bioloid-like",
-        "walk": "forward",
-        "command": [0.1, 0.0, 0.0],
-        "case": case,
-        "generator": generator,
-        "fell": fell,
-        "fall_time_s": 4.25 if fell else None,
-        "fall_reason": "base tilt 46.0 deg above 45 deg" if fell else "",
-        "steps_completed": 5 if fell else 21,
-        "steps_planned": 21,
-        "foot_position_error_cm_max": 1.234,
-        "cop_margin_p05_m": 0.0042,
+        "controller": controller,
+        "group": "single" if factor != "nominal" else "nominal",
+        "factor": factor,
+        "outcome": outcome,
+        "fell": outcome == "fell",
+        "fall_time_s": 2.5 if outcome == "fell" else None,
+        "fall_reason": "base tilt" if outcome == "fell" else "",
+        "error": None,
+        **extra,
     }
 
 
-def test_tables_show_every_walk_and_list_the_falls():
-    rows = [_row("nominal", "mpc", False), _row("mass x1.3", "mpc", True)]
-    text = case_tables(rows, ["mpc", "analytic"])
-    assert "| nominal | 21/21, 1.2 cm, +4.2 mm |  |" in text
-    assert "| mass x1.3 | **fell** 4.2 s (5/21) |  |" in text
-    falls = falls_table(rows)
-    assert "mass x1.3" in falls and "nominal" not in falls and "base tilt" in falls
-    assert falls_table(rows[:1]) == "No walk falls.\n"
-    # a walk the library refused: listed with its error, no metrics
-    refused = {**_row("friction 0.4", "mpc", False), "fell": None, "error": "InfeasibleCommand"}
-    assert "| friction 0.4 | **error** |" in case_tables([refused], ["mpc"])
-    assert "InfeasibleCommand" in falls_table([refused])
-    results = RobustnessResults(tuple(rows), (), 90.0, 2)
-    readme = format_readme(load_config(mode="quick"), results, command="run.py --quick")
-    assert "`run.py --quick` (quick mode; 2 walks in 1.5 min" in readme
-    assert "| mpc | 1/2 |" in readme
-
-
-def test_estimator_summary_counts_the_seeds_meeting_the_goal():
+def test_a_stopped_walk_is_no_success_and_the_rates_carry_wilson_intervals():
     rows = [
-        {"robot": "bioloid-like", "estimator_com_error_rms_m": value}
-        for value in (0.004, 0.006, 0.003)
-    ] + [{"robot": "g1", "estimator_com_error_rms_m": 0.009}]
-    text = estimator_summary(rows)
-    assert "| bioloid-like | 4.0 | 3.0 to 6.0 | 2/3 (< 5 mm) |" in text
-    assert "| g1 | 9.0 | 9.0 to 9.0 | 1/1 (< 10 mm) |" in text
+        _row("mpc", "mass", "walked"),
+        _row("mpc", "mass", "stopped"),
+        _row("mpc", "mass", "fell"),
+        _row("mpc", "nominal", "walked"),
+        {**_row("mpc", "noise", "walked"), "error": "InfeasibleCommand: no"},
+    ]
+    assert [survived(r) for r in rows] == [True, False, False, True, False]
+    assert rate(cell_rows(rows, "bioloid-like", "mpc", "mass")) == (1, 3)
+    assert rate(cell_rows(rows, "bioloid-like", "mpc", "single")) == (1, 4)
+    low, high = wilson(1, 3)
+    assert rate_text(1, 3) == f"1/3, 33 % [{100 * low:.0f}, {100 * high:.0f}]"
+    assert 0.0 < low < 1 / 3 < high < 1.0
+
+
+def test_the_worst_cases_name_stopped_and_fallen_walks_with_their_command():
+    base = {
+        "vx": 0.1, "vy": 0.0, "vyaw": 0.0, "nb_steps": 4, "pushes": [], "mass_scale": 1.3,
+        "com_dx": 0.0, "com_dy": 0.0, "friction": None, "noise_scale": 1.0,
+        "latency_periods": None, "servo_strength": 1.0, "ground_tilt": 0.0,
+        "ground_tilt_direction": 0.0, "ground_roughness": 0.0, "seed": 3,
+        "control_period": 0.01, "level": 1.3, "steps_completed": 2, "steps_planned": 5,
+    }  # fmt: skip
+    rows = [_row("mpc", "mass", "stopped", **base), _row("mpc", "mass", "fell", **base)]
+    text = worst_cases(rows)
+    assert text.startswith("2 walks fell, were stopped or could not run.")
+    assert "stopped by the controller" in text and "fell at 2.5 s (base tilt)" in text
+    assert "mpcwalk walk --robot bioloid-like --controller mpc" in text
+    assert "--mass-scale 1.3" in text
+    assert worst_cases([_row("mpc", "mass", "walked", **base)]) == "Every walk survived.\n"
 
 
 @pytest.mark.slow
-def test_quick_run_of_the_script(tmp_path):
+def test_the_quick_robustness_matrix(tmp_path):
+    """`mpcwalk experiment run robustness --quick`: a few dozen short walks on local Ray;
+    `mpc` walks the nominal world, `paper-m-open` falls under the push it cannot survive
+    (beyond the LIPM's no-step bound), and the report names the reproducing command of each
+    fall; run again, nothing runs."""
     out = tmp_path / "robustness"
-    completed = subprocess.run(
-        [
-            sys.executable,
-            str(ROOT / "experiments" / "robustness" / "run.py"),
-            "--quick",
-            "--workers",
-            "2",
-            "--no-progress",
-            "--out",
-            str(out),
-        ],
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    assert completed.returncode == 0, completed.stderr
-    data = json.loads((out / "results.json").read_text())
-    assert data["mode"] == "quick" and len(data["rows"]) == 3
-    for row in data["rows"]:
-        # a heavier torso, and a heavier torso with its CoM 1 cm forward: the robot walks
-        assert not row["fell"], row
-        assert row["steps_completed"] == row["steps_planned"] == 5
-        assert row["config"]["state_source"] == "estimator"
-    assert data["rows"][2]["config"]["model_mismatch"]["com_offset"] == [0.01, 0.0]
-    readme = (out / "README.md").read_text()
-    assert "No walk falls." in readme and "#### bioloid-like, forward" in readme
+    command = ["experiment", "run", "robustness", "--quick", "--out", str(out), "--no-progress"]
+    assert cli_main(command) == 0
+    with open(out / "results.csv", newline="") as stream:
+        header = next(csv.reader(stream))
+    rows = read_rows(out / "results.csv")
+    for column in ("case_id", "robot", "controller", "group", "factor", "fell", "outcome"):
+        assert column in header
+    assert len(rows) == json.loads((out / "sweep.json").read_text())["nb_cases"] >= 20
+    assert not any(row["error"] for row in rows)
+
+    def outcome(controller, factor):
+        return [
+            r["outcome"] for r in rows if r["controller"] == controller and r["factor"] == factor
+        ]
+
+    assert outcome("mpc", "nominal") == ["walked"]
+    assert outcome("paper-m-open", "push") == ["fell"]
+    report = (out / "report.md").read_text()
+    assert "mpcwalk experiment run robustness --quick" in report
+    assert "## Success rates (95 % Wilson intervals)" in report and "## Worst cases" in report
+    assert "mpcwalk walk --robot bioloid-like --controller paper-m-open" in report
+    assert (out / "matrix_success_bioloid-like.png").stat().st_size > 1000
+    assert cli_main(command) == 0
+    assert json.loads((out / "runs.json").read_text())[-1]["cases_run"] == 0

@@ -141,7 +141,7 @@ def test_the_world_builds_the_sensor_model():
 
 
 #: The goals of the estimator's CoM error RMS (issue 11) [m]. Measured over 20 steps with
-#: the default noise and latency, seed 0 (`results/robustness/README.md` has seeds 0 to 4):
+#: the default noise and latency, seed 0 (the former robustness table had seeds 0 to 4):
 #: CoM error RMS / max, relative to the support RMS, CoM velocity error RMS, yaw drift
 #: - bioloid-like: 4.46 / 8.13 mm, 0.81 mm, 22.5 mm/s, 0.13 deg
 #: - g1: 3.82 / 9.09 mm, 1.35 mm, 45.5 mm/s, 0.00 deg

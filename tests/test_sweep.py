@@ -1,15 +1,12 @@
 """The sweep engine: cases as Ray tasks, rows streamed into a table, nothing lost, nothing
-repeated; and the robustness matrix's quick form."""
+repeated."""
 
-import csv
-import json
 import math
 import sys
 from dataclasses import dataclass
 
 import pytest
 
-from mpcwalk.cli import main as cli_main
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.sweep import TIMING_COLUMNS, Sweep, read_rows, run_sweep
 
@@ -88,34 +85,6 @@ def test_a_changed_configuration_is_refused_unless_overwritten(tmp_path):
     assert again.complete and again.nb_resumed == 0
     with pytest.raises(ConfigurationError, match="positive integer"):
         run_sweep(sweep(), tmp_path / "c", workers=0, progress=False)
-
-
-def test_the_quick_robustness_matrix(tmp_path):
-    """`mpcwalk sweep robustness --quick`: a few dozen short walks on local Ray; `mpc` walks
-    the nominal world, `paper-m-open` falls under the push it cannot survive (beyond the
-    LIPM's no-step bound), and the report names the reproducing command of each fall."""
-    out = tmp_path / "matrix"
-    assert cli_main(["sweep", "robustness", "--quick", "--out", str(out), "--no-progress"]) == 0
-    with open(out / "results.csv", newline="") as stream:
-        header = next(csv.reader(stream))
-    rows = read_rows(out / "results.csv")
-    for column in ("case_id", "robot", "controller", "group", "factor", "fell", "error"):
-        assert column in header
-    assert len(rows) == json.loads((out / "sweep.json").read_text())["nb_cases"] >= 20
-    assert not any(row["error"] for row in rows)
-
-    def outcome(controller, factor):
-        return [r["fell"] for r in rows if r["controller"] == controller and r["factor"] == factor]
-
-    assert outcome("mpc", "nominal") == [False]
-    assert outcome("paper-m-open", "push") == [True]
-    report = (out / "report.md").read_text()
-    assert (
-        "Wilson" in report
-        and "mpcwalk walk --robot bioloid-like --controller paper-m-open" in report
-    )
-    # the same command again runs nothing
-    assert cli_main(["sweep", "robustness", "--quick", "--out", str(out), "--no-progress"]) == 0
 
 
 def test_walk_specifications_are_the_cases_of_a_sweep(tmp_path):

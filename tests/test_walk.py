@@ -113,7 +113,7 @@ def test_unitree_g1_walks_ten_steps():
 
 @pytest.mark.slow
 def test_large_humanoid_follows_paper_a_path_file():
-    path = ROOT / "experiments" / "paper_a" / "straight.mdat"
+    path = ROOT / "mpcwalk" / "experiments" / "paper_a" / "paths" / "straight.mdat"
     robot = get_robot("atlas-like")
     result = run_walk(robot, controller="mpc", path=path, nb_steps=6)
     m = result.metrics

@@ -16,11 +16,11 @@ from mpcwalk.robot.loading import robot_names
 
 ROOT = Path(__file__).resolve().parents[1]
 #: What the build reads: the package, its data folders and the metadata files.
-SOURCES = ("pyproject.toml", "README.md", "LICENSE", "mpcwalk", "robots", "experiments")
+SOURCES = ("pyproject.toml", "README.md", "LICENSE", "mpcwalk", "robots")
 #: Data files the library reads at run time: source folder -> folder in the installed package.
 DATA = {
     "robots": ("mpcwalk/robot/data", ("*.xml", "presets/*.toml")),
-    "experiments": ("mpcwalk/experiments/data", ("paper_m/*.toml", "paper_a/*.mdat")),
+    "mpcwalk/experiments": ("mpcwalk/experiments", ("*/config.toml", "paper_a/paths/*.mdat")),
 }
 
 pytestmark = pytest.mark.slow
@@ -100,12 +100,11 @@ def test_the_wheel_ships_every_module_and_every_data_file(wheel):
             for path in (ROOT / folder).glob(pattern)
         }
         assert files and files <= names, sorted(files - names)
-    # the experiment scripts are not library data
-    assert not [
-        name
-        for name in names
-        if name.startswith("mpcwalk/experiments/data/paper_") and name.endswith(".py")
-    ]
+    # every experiment of the registry ships its configuration
+    from mpcwalk.experiments.catalog import EXPERIMENTS
+
+    for name in EXPERIMENTS:
+        assert f"mpcwalk/experiments/{name}/config.toml" in names, name
     assert any(name.endswith(".dist-info/licenses/LICENSE") for name in names)
 
 
@@ -114,8 +113,8 @@ def test_the_installed_package_and_its_data_come_from_the_target(installed):
     code = (
         "import json, mpcwalk\n"
         "from mpcwalk.robot.loading import ROBOTS_DIR\n"
-        "from mpcwalk.experiments.paper_m import DEFAULT_CONFIG\n"
-        "from mpcwalk.experiments.paper_a import EXPERIMENT_DIR\n"
+        "from mpcwalk.experiments.paper_m.config import DEFAULT_CONFIG\n"
+        "from mpcwalk.experiments.paper_a.config import PATHS_DIR as EXPERIMENT_DIR\n"
         "print(json.dumps([mpcwalk.__file__, str(ROBOTS_DIR), str(DEFAULT_CONFIG),"
         " str(EXPERIMENT_DIR), DEFAULT_CONFIG.is_file(),"
         " sorted(p.name for p in EXPERIMENT_DIR.glob('*.mdat'))]))\n"

@@ -1,19 +1,19 @@
-"""``mpcwalk sweep ...``: the sweeps of the experiments, run on the sweep engine."""
+"""``mpcwalk experiment list|run``: the experiments of the registry
+(:mod:`mpcwalk.experiments.command`)."""
 
 import argparse
 
 
 def add_parser(sub) -> None:
-    """Add ``sweep`` to ``sub``."""
-    from mpcwalk.experiments.sweep_cli import add_sweep_parser
+    """Add ``experiment`` to ``sub``."""
+    from mpcwalk.experiments.command import add_experiment_parser
 
-    add_sweep_parser(sub)
-    sub.choices["sweep"].set_defaults(run=run)
+    add_experiment_parser(sub)
+    sub.choices["experiment"].set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the sweep of ``args``."""
-    from mpcwalk.experiments.sweep_cli import run_sweep_command
+    """Run the ``experiment`` sub-command of ``args``."""
+    from mpcwalk.experiments.command import run_experiment_command
 
-    code: int = run_sweep_command(args)
-    return code
+    return run_experiment_command(args)

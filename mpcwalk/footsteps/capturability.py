@@ -22,6 +22,12 @@ stance foot's frame. An impulse ``J`` [N s] on the mass ``m`` moves the DCM by
 ``J / (m omega)``: the largest impulse recovered in a direction is ``m omega`` times the
 distance from the DCM before the push to the region's border along that direction.
 
+The closed form for a push at rest over the foot centre (:func:`capture_impulse_bound`): with
+the ZMP at most ``d`` from the foot centre in the push's direction, the robot stops without
+stepping when ``J <= m omega d``; with one step that lands ``t`` after the push, at most
+``L`` further in that direction, the DCM has grown by ``exp(omega t)`` and the bound becomes
+``m omega (d + L exp(-omega t))``.
+
 Cross-over steps are not allowed: the landing region of a left swing foot lies left of the
 stance foot (``y >= y_min > 0``), so a push towards the stance leg is captured by the next
 step of the *other* leg, which is what the two-step region shows.
@@ -33,6 +39,8 @@ from dataclasses import dataclass
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Side
 from mpcwalk.footsteps.reachability import ReachabilityRectangle
+
+GRAVITY = 9.81  # [m/s^2]
 
 
 @dataclass(frozen=True)
@@ -161,3 +169,49 @@ def largest_impulse(
         )
     boxes = [regions] if isinstance(regions, Box) else list(regions)
     return mass * omega * max(box.ray_distance(dcm, direction) for box in boxes)
+
+
+def capture_impulse_bound(
+    direction: float,
+    *,
+    mass: float,
+    com_height: float,
+    half_length: float = 0.05,
+    half_width: float = 0.03,
+    step_reach: tuple[float, float, float] | None = None,
+    step_time: float = 0.25,
+    gravity: float = GRAVITY,
+) -> float:
+    """Largest impulse [N s] the LIPM at rest over the foot centre absorbs, without a step or
+    with one step.
+
+    Args:
+        direction: Push direction [rad] in the foot frame (0: forward).
+        mass: Robot mass [kg].
+        com_height: CoM height z_c [m].
+        half_length: Half sole length [m] (ZMP reach forward and backward).
+        half_width: Half sole width [m] (ZMP reach sideways).
+        step_reach: ``(forward, backward, lateral)`` reach of one step [m]; None: no step.
+        step_time: Time from the push to the step's landing [s].
+        gravity: [m/s^2].
+
+    Returns:
+        ``m omega (d + L exp(-omega t))`` with ``d`` the sole's extent and ``L`` the step's
+        reach in that direction (``L = 0`` without a step).
+
+    Raises:
+        ConfigurationError: A mass or CoM height that is not positive.
+    """
+    if mass <= 0.0 or com_height <= 0.0:
+        raise ConfigurationError(
+            f"capture_impulse_bound needs mass > 0 kg and com_height > 0 m, got {mass!r} kg "
+            f"and {com_height!r} m."
+        )
+    omega = math.sqrt(gravity / com_height)
+    origin = (0.0, 0.0)
+    d = Box(-half_length, half_length, -half_width, half_width).ray_distance(origin, direction)
+    reach = 0.0
+    if step_reach is not None:
+        forward, backward, lateral = step_reach
+        reach = Box(-backward, forward, -lateral, lateral).ray_distance(origin, direction)
+    return mass * omega * (d + reach * math.exp(-omega * step_time))

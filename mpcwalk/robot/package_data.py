@@ -1,8 +1,9 @@
 """Where the data shipped with mpcwalk lies: robot descriptions, presets, experiment configs.
 
-The top-level folders ``robots/`` and ``experiments/`` of the repository are installed as the
-packages ``mpcwalk.robot.data`` and ``mpcwalk.experiments.data`` (setuptools' ``package-dir``
-and ``package-data`` in ``pyproject.toml``). :mod:`importlib.resources` finds them wherever
+The top-level folder ``robots/`` of the repository is installed as the package
+``mpcwalk.robot.data`` (setuptools' ``package-dir`` and ``package-data`` in
+``pyproject.toml``); each experiment's ``config.toml`` lies in its own package
+(``mpcwalk.experiments.paper_m``...). :mod:`importlib.resources` finds them wherever
 pip put them, for an editable install (the source folders), a normal install and a wheel
 (folders inside the installed package) alike: nothing here depends on where the source tree
 is.
@@ -15,9 +16,6 @@ from mpcwalk.exceptions import PackageDataNotFound
 
 ROBOT_DATA = "mpcwalk.robot.data"
 """Package of the robot descriptions written by this project (MJCF) and of the presets."""
-
-EXPERIMENT_DATA = "mpcwalk.experiments.data"
-"""Package of the experiment configs (``paper_m/paper_m.toml``) and paths (``paper_a/*.mdat``)."""
 
 
 def package_data_dir(package: str) -> Path:
@@ -45,4 +43,4 @@ def package_data_dir(package: str) -> Path:
     return root
 
 
-__all__ = ["EXPERIMENT_DATA", "ROBOT_DATA", "package_data_dir"]
+__all__ = ["ROBOT_DATA", "package_data_dir"]

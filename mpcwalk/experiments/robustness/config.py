@@ -1,0 +1,94 @@
+"""The robustness matrix's configuration: robots, controllers, factors and their ranges,
+read from the ``config.toml`` beside this module (:func:`load_matrix_config`)."""
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.experiments.protocol import config_path, mode_name, read_config
+
+DEFAULT_MATRIX = config_path("mpcwalk.experiments.robustness")
+
+
+@dataclass(frozen=True)
+class RobotPlan:
+    """A robot's part of the matrix: its controllers, nominal command and steps."""
+
+    controllers: tuple[str, ...]
+    command: tuple[float, float, float]
+    nb_steps: int
+
+
+@dataclass(frozen=True)
+class MatrixConfig:
+    """The matrix (see its ``config.toml`` for each entry)."""
+
+    robots: Mapping[str, RobotPlan]
+    ranges: Mapping[str, Any]
+    slow_controllers: Mapping[str, int] = field(default_factory=dict)
+    levels: int = 3
+    combinations: int = 10
+    combination_size: tuple[int, int] = (2, 4)
+    nominal_seeds: tuple[int, ...] = (0,)
+    seed: int = 0
+    timeout: float = 900.0
+    control_period: float = 0.01
+    mode: str = "full"
+
+    def settings(self) -> dict[str, Any]:
+        """The parameters as JSON (the sweep's fingerprint)."""
+        return {
+            "robots": {name: vars(plan) for name, plan in self.robots.items()},
+            "ranges": dict(self.ranges),
+            "slow_controllers": dict(self.slow_controllers),
+            "levels": self.levels,
+            "combinations": self.combinations,
+            "combination_size": list(self.combination_size),
+            "nominal_seeds": list(self.nominal_seeds),
+            "seed": self.seed,
+            "timeout": self.timeout,
+            "control_period": self.control_period,
+            "mode": self.mode,
+        }
+
+
+def load_matrix_config(path: str | Path = DEFAULT_MATRIX, *, quick: bool = False) -> MatrixConfig:
+    """Read the matrix from TOML; ``quick`` applies its ``[quick]`` table.
+
+    Raises:
+        ConfigurationError: A malformed table.
+    """
+    data, quick_table = read_config(path, quick=quick)
+    try:
+        robots = {
+            name: RobotPlan(
+                tuple(quick_table.get("controllers", plan["controllers"])),
+                tuple(float(v) for v in plan["command"]),  # type: ignore[arg-type]
+                int(quick_table.get("nb_steps", plan["nb_steps"])),
+            )
+            for name, plan in data["robots"].items()
+            if name in quick_table.get("robots", data["robots"])
+        }
+        ranges = dict(data["factors"])
+        ranges.update({k: v for k, v in quick_table.items() if k in ranges})
+        low, high = data.get("combination_size", (2, 4))
+        return MatrixConfig(
+            robots=robots,
+            ranges=ranges,
+            slow_controllers={k: int(v) for k, v in data.get("slow_controllers", {}).items()},
+            levels=int(quick_table.get("levels", data.get("levels", 3))),
+            combinations=int(quick_table.get("combinations", data.get("combinations", 10))),
+            combination_size=(int(low), int(high)),
+            nominal_seeds=tuple(quick_table.get("nominal_seeds", data.get("nominal_seeds", [0]))),
+            seed=int(data.get("seed", 0)),
+            timeout=float(data.get("timeout", 900.0)),
+            control_period=float(data.get("control_period", 0.01)),
+            mode=mode_name(quick),
+        )
+    except (KeyError, TypeError, ValueError) as error:
+        raise ConfigurationError(f"Malformed matrix file {path}: {error!r}.") from None
+
+
+__all__ = ["DEFAULT_MATRIX", "MatrixConfig", "RobotPlan", "load_matrix_config"]

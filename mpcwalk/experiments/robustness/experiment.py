@@ -1,0 +1,96 @@
+"""The robustness matrix as an experiment of the registry (``robustness``)."""
+
+import json
+from pathlib import Path
+from typing import Any
+
+from mpcwalk.experiments.protocol import Experiment, read_table
+from mpcwalk.experiments.reporting import read_runs, runs_text
+from mpcwalk.experiments.robustness.config import MatrixConfig, load_matrix_config
+from mpcwalk.sweep import Sweep
+from mpcwalk.walking.spec import WalkSpec
+
+
+class Robustness(Experiment):
+    """Every controller on every robot in worlds that are not the model."""
+
+    name = "robustness"
+    summary = "the robustness matrix: every controller on every robot in perturbed worlds"
+    package = "mpcwalk.experiments.robustness"
+
+    def config(self, *, quick: bool = False) -> MatrixConfig:
+        return load_matrix_config(self.config_file, quick=quick)
+
+    def cases(self, config: MatrixConfig) -> tuple[WalkSpec, ...]:
+        from mpcwalk.experiments.robustness.worlds import matrix_cases
+
+        return matrix_cases(config)
+
+    def sweep(self, config: MatrixConfig, out: str | Path | None = None) -> Sweep:
+        from mpcwalk.experiments.robustness.worlds import matrix_sweep
+
+        return matrix_sweep(config)
+
+    def figures(self, out: str | Path) -> list[str]:
+        from mpcwalk.experiments.robustness.plots import write_figures
+
+        return write_figures(Path(out), read_table(out)[1])
+
+    def report(self, out: str | Path) -> Path:
+        from mpcwalk.experiments.robustness.report import write_report
+
+        out = Path(out)
+        settings, rows = read_table(out)
+        names = sorted(p.name for p in out.glob("matrix_*.png"))
+        scaling = out / "scaling.md"
+        return write_report(
+            out,
+            rows,
+            header=matrix_header(settings, read_runs(out), len(rows)),
+            scaling=scaling.read_text() if scaling.exists() else "",
+            figures=names,
+        )
+
+
+def matrix_header(settings: dict[str, Any], runs: list[dict], nb_cases: int) -> str:
+    """The head of the report: the runs that filled the table and what the matrix is."""
+    from mpcwalk.experiments.robustness.worlds import FACTORS
+
+    plans = settings["robots"]
+    robots = ", ".join(
+        f"`{name}` ({', '.join(plan['controllers'])}; {plan['nb_steps']} steps at "
+        f"{plan['command'][0]:g} m/s)"
+        for name, plan in plans.items()
+    )
+    present = {c for plan in plans.values() for c in plan["controllers"]}
+    slow = (
+        ", ".join(
+            f"`{name}` {steps} steps"
+            for name, steps in settings["slow_controllers"].items()
+            if name in present
+        )
+        or "none here"
+    )
+    low, high = settings["combination_size"]
+    return "\n".join(
+        [
+            "# The robustness matrix\n",
+            runs_text(runs, nb_cases),
+            f"Mode {settings['mode']}. Robots and controllers: {robots}; the controllers with "
+            f"their own timing take the same steps at it ({slow}). Worlds of each robot: the "
+            f"nominal one ({len(settings['nominal_seeds'])} seeds), each factor alone at "
+            f"{settings['levels']} random levels stratified over its range, and "
+            f"{settings['combinations']} random combinations of {low} to {high} factors; every "
+            "controller of the robot walks every world, with the world's seed. Factors "
+            f"({', '.join(FACTORS)}) and ranges: `{json.dumps(settings['ranges'])}` "
+            "(`mpcwalk/experiments/robustness/config.toml`). Every walk runs on the estimator, "
+            "with the robot's sensor model (scaled by the noise factor) and one control period "
+            "of latency unless the latency factor says otherwise. A walk succeeds when it "
+            "survives: it runs (an error counts as a failure) and neither falls nor is stopped "
+            "by the controller. Table: `results.csv` (one row per walk, its configuration and "
+            "metrics); `sweep.json`: the configuration.\n",
+        ]
+    )
+
+
+__all__ = ["Robustness", "matrix_header"]
