@@ -28,7 +28,7 @@ def walk(robot: str = "bioloid-like", controller: Any = None, **fields: Any) -> 
     ``ControllerSpec``, None: ``mpc``; any field of the specification by its name), on the
     session's copy of the robot (:func:`get_robot`)."""
     from mpcwalk.walking.runner import run_walk
-    from mpcwalk.walking.spec import WalkSpec
+    from mpcwalk.walking.specification import WalkSpec
 
     spec = WalkSpec.build(robot, controller=controller, **fields)
     return run_walk(spec, robot=get_robot(robot))

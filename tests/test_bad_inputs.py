@@ -16,7 +16,7 @@ from mpcwalk.generators import make_generator
 from mpcwalk.sim import parse_push
 from mpcwalk.sim.sensing.faults import SensorFaults
 from mpcwalk.walking.runner import run_walk
-from mpcwalk.walking.spec import WalkSpec
+from mpcwalk.walking.specification import WalkSpec
 
 WALK = ["walk", "--robot", "bioloid-like", "--no-progress"]
 

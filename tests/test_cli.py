@@ -12,7 +12,7 @@ from mpcwalk.bench.ticks import format_table, run_tick_benchmark
 from mpcwalk.cli import build_parser, main
 from mpcwalk.cli.console import format_length
 from mpcwalk.cli.walk_options import spec_from_args
-from mpcwalk.walking.spec import WorldSpec
+from mpcwalk.walking.specification import WorldSpec
 
 
 def test_plan_writes_plots_and_metrics(tmp_path, capsys):

@@ -18,7 +18,7 @@ from mpcwalk.sim import parse_push
 from mpcwalk.walking.footstep_planning import plan_walk_footsteps
 from mpcwalk.walking.lipm_plan import plan_walk
 from mpcwalk.walking.runner import run_walk
-from mpcwalk.walking.spec import CONTROLLERS, ControllerSpec, WalkSpec
+from mpcwalk.walking.specification import CONTROLLERS, ControllerSpec, WalkSpec
 
 ROOT = Path(__file__).resolve().parent.parent
 PATHS = ROOT / "mpcwalk" / "experiments" / "paper_a" / "paths"

@@ -13,7 +13,7 @@ from mpcwalk.cli import main as cli_main
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.ground import FIELD_NAME, Ground, clear_radius
 from mpcwalk.sim import Simulation
-from mpcwalk.walking.spec import read_spec
+from mpcwalk.walking.specification import read_spec
 
 
 def test_bad_grounds_are_named():

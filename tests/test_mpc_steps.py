@@ -420,7 +420,7 @@ def test_mujoco_push_felling_the_closed_form_gait_is_recovered_by_the_adaptive_m
     forward impulses survived, ``results/paper_m``: below 0.1 N s against 0.55 N s)."""
     from mpcwalk.sim import ExternalForce
     from mpcwalk.walking.runner import run_walk
-    from mpcwalk.walking.spec import WalkSpec
+    from mpcwalk.walking.specification import WalkSpec
 
     push = [ExternalForce(2.05, 0.1, [3.0, 0.0, 0.0])]  # 0.3 N s
     runs = {

@@ -33,7 +33,7 @@ from mpcwalk.models.lipm import LIPM
 from mpcwalk.sim import ExternalForce
 from mpcwalk.sweep import WorkerDied, map_tasks
 from mpcwalk.walking.metrics import yaw_deviation_deg
-from mpcwalk.walking.spec import ControllerSpec
+from mpcwalk.walking.specification import ControllerSpec
 
 ROOT = Path(__file__).resolve().parent.parent
 MASS, HEIGHT = 2.02, 0.23

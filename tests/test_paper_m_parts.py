@@ -348,7 +348,7 @@ def test_gyro_stabilizer_damps_the_open_loop_closed_form():
     the default sensors, one control period of latency); the stabilizer lowers the largest
     roll (2.90 deg without, 2.50 deg with, measured)."""
     from mpcwalk.walking.runner import run_walk
-    from mpcwalk.walking.spec import ControllerSpec, WalkSpec
+    from mpcwalk.walking.specification import ControllerSpec, WalkSpec
 
     robot = get_robot("bioloid-like")
     runs = {

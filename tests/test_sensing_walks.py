@@ -13,7 +13,7 @@ from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.sim.sensing.model import SensorModel
 from mpcwalk.walking.runner import run_walk
-from mpcwalk.walking.spec import WorldSpec
+from mpcwalk.walking.specification import WorldSpec
 
 ESTIMATOR_KEYS = (
     "estimator_com_error_rms_m",

@@ -14,7 +14,7 @@ import mpcwalk
 from mpcwalk.cli import build_parser, main
 from mpcwalk.cli.walk_options import spec_from_args
 from mpcwalk.exceptions import ConfigurationError, NotRegistered, SpecFileError
-from mpcwalk.walking.spec import (
+from mpcwalk.walking.specification import (
     FIELDS,
     ControllerSpec,
     DisturbanceSpec,

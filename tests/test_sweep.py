@@ -91,7 +91,7 @@ def test_walk_specifications_are_the_cases_of_a_sweep(tmp_path):
     """Two short walks as the cases of a sweep: each row holds its specification's id and
     columns (labels among them) and what the walk measured; a row gives its walk back, and
     the same sweep again runs nothing."""
-    from mpcwalk.walking.spec import WalkSpec
+    from mpcwalk.walking.specification import WalkSpec
     from mpcwalk.walking.sweep_cases import (
         CASE_COLUMNS,
         WALK_COLUMNS,

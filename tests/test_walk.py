@@ -14,7 +14,7 @@ from mpcwalk.sim import FallDetector, parse_push
 from mpcwalk.walking.footstep_planning import plan_walk_footsteps
 from mpcwalk.walking.metrics import WalkMetrics, cop_margins, landing_check_times
 from mpcwalk.walking.runner import run_walk
-from mpcwalk.walking.spec import read_spec
+from mpcwalk.walking.specification import read_spec
 
 ROOT = Path(__file__).resolve().parent.parent
 TURN_RATE = math.radians(20.0)  # [rad/s] paper M's turning walk

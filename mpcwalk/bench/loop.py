@@ -172,7 +172,7 @@ def run_loop_benchmark(walks=DEFAULT_WALKS, *, progress: bool = True) -> list[Lo
     from tqdm import tqdm
 
     from mpcwalk.walking.runner import run_walk
-    from mpcwalk.walking.spec import WalkSpec
+    from mpcwalk.walking.specification import WalkSpec
 
     floors: dict[str, PhysicsFloor] = {}
     cases = []

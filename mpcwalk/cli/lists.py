@@ -15,7 +15,7 @@ def _generators() -> Registry:
 
 
 def _controllers() -> Registry:
-    from mpcwalk.walking.spec import CONTROLLERS
+    from mpcwalk.walking.specification import CONTROLLERS
 
     return CONTROLLERS
 

@@ -71,7 +71,7 @@ def run(args) -> int:
     from mpcwalk.walking.figures import plot_com_zmp, plot_top_view
     from mpcwalk.walking.lipm_plan import plan_walk
     from mpcwalk.walking.outputs import check_out_dir, write_atomic, write_json
-    from mpcwalk.walking.spec.plan import MAX_STEPS
+    from mpcwalk.walking.specification.plan import MAX_STEPS
 
     if not 1 <= args.steps <= MAX_STEPS:
         raise ConfigurationError(

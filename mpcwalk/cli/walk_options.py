@@ -1,7 +1,7 @@
 """The options of ``mpcwalk walk`` and the walk specification they make.
 
 Every option that describes the walk is a field of the
-:class:`~mpcwalk.walking.spec.WalkSpec` (or a few of them: ``--vx`` is a component of
+:class:`~mpcwalk.walking.specification.WalkSpec` (or a few of them: ``--vx`` is a component of
 ``command``); its default is the specification's. An option not given is absent from the
 parsed arguments, so that with ``--spec FILE`` the options given change those fields of the
 file's walk and nothing else (:func:`spec_from_args`). Input checking happens here, at the
@@ -268,7 +268,7 @@ def spec_from_args(args: argparse.Namespace, *, out: Path) -> Any:
             each other.
     """
     from mpcwalk.sim import parse_push
-    from mpcwalk.walking.spec import WalkSpec, read_spec
+    from mpcwalk.walking.specification import WalkSpec, read_spec
 
     given = vars(args)
     base_file = args.spec

@@ -1,7 +1,7 @@
 """Sweeps: many walks (or other cases) run as Ray tasks into a results table.
 
 A sweep is a list of cases (anything with a ``case_id`` and its ``to_columns()``: a walk's
-:class:`~mpcwalk.walking.spec.WalkSpec`, whose runner is
+:class:`~mpcwalk.walking.specification.WalkSpec`, whose runner is
 :func:`~mpcwalk.walking.sweep_cases.run_walk_case`) and the function that runs one; :func:`run_sweep` runs each case as a Ray task, on a local Ray
 instance started on first use or on a cluster (``address="ray://HOST:PORT"`` or
 ``RAY_ADDRESS``), and streams one row per case into ``results.csv`` as they finish: a case

@@ -96,7 +96,7 @@ class Sweep:
     Attributes:
         name: Name (in the table's manifest).
         cases: The cases: objects with ``case_id`` and ``to_columns()`` (e.g.
-            :class:`~mpcwalk.walking.spec.WalkSpec`), picklable.
+            :class:`~mpcwalk.walking.specification.WalkSpec`), picklable.
         runner: Module-level function running one case, returning ``columns``.
         columns: The runner's columns.
         settings: What else defines the sweep (JSON-ready; part of its fingerprint).

@@ -1,8 +1,8 @@
-"""One way to build a controller: from a :class:`~mpcwalk.walking.spec.ControllerSpec`, a
+"""One way to build a controller: from a :class:`~mpcwalk.walking.specification.ControllerSpec`, a
 robot and a contact schedule to a :class:`~mpcwalk.control.controller.WalkingController`.
 
 Named controllers, the command line's parts by hand, the sweeps and the experiments all
-describe their controller as a :class:`~mpcwalk.walking.spec.ControllerSpec`; this module
+describe their controller as a :class:`~mpcwalk.walking.specification.ControllerSpec`; this module
 is the only place that turns one into objects. It also decides the timing of a walk whose
 plan gives none (:func:`walk_timing`).
 """
@@ -18,7 +18,7 @@ from mpcwalk.gait.gait_defaults import GaitDefaults
 from mpcwalk.generators import generator_class
 from mpcwalk.generators.registry import check_options
 from mpcwalk.robot import Robot
-from mpcwalk.walking.spec import ControllerSpec, PlanSpec
+from mpcwalk.walking.specification import ControllerSpec, PlanSpec
 
 
 def build_stabilizer(names: Sequence[str]) -> Stabilizer | None:

@@ -151,7 +151,7 @@ def write_walk_outputs(result: Any, out: Path, *, log_format: str = "npz") -> li
     from functools import partial
 
     from mpcwalk.walking.figures import plot_estimator, plot_walk_over_time, plot_walk_top_view
-    from mpcwalk.walking.spec import SPEC_FILE, spec_to_toml
+    from mpcwalk.walking.specification import SPEC_FILE, spec_to_toml
 
     out.mkdir(parents=True, exist_ok=True)
     (out / METRICS_FILE).unlink(missing_ok=True)  # --overwrite: no stale metrics meanwhile

@@ -8,7 +8,7 @@ from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.sim import FallStatus
 from mpcwalk.walking.log import WalkLog
 from mpcwalk.walking.metrics import WalkMetrics
-from mpcwalk.walking.spec import WalkSpec
+from mpcwalk.walking.specification import WalkSpec
 
 
 @dataclass(frozen=True)
@@ -101,7 +101,7 @@ class WalkResult:
         metrics: What the walk measured.
         config: How it was set up.
         spec: The walk's specification, resolved (the defaults it left to the robot
-            spelled out): :func:`~mpcwalk.walking.spec.write_spec` writes it, and it walks
+            spelled out): :func:`~mpcwalk.walking.specification.write_spec` writes it, and it walks
             the same walk again.
     """
 

@@ -1,4 +1,4 @@
-"""Walk a robot in MuJoCo: :func:`run_walk` runs a :class:`~mpcwalk.walking.spec.WalkSpec`.
+"""Walk a robot in MuJoCo: :func:`run_walk` runs a :class:`~mpcwalk.walking.specification.WalkSpec`.
 
 The ``mpcwalk walk`` job, in four steps, each its own function:
 
@@ -31,7 +31,7 @@ from mpcwalk.walking.control_loop import ControlLoop, LoopOutcome, with_outcome
 from mpcwalk.walking.controller_builder import build_controller
 from mpcwalk.walking.metrics import compute_walk_metrics, yaw_deviation_deg
 from mpcwalk.walking.result import WalkConfig, WalkResult
-from mpcwalk.walking.spec import ControllerSpec, WalkSpec
+from mpcwalk.walking.specification import ControllerSpec, WalkSpec
 from mpcwalk.walking.walk_setup import WalkSetup, set_up_walk
 
 
@@ -57,7 +57,7 @@ def run_walk(
     Args:
         spec: The walk, or a robot name (a loaded :class:`Robot` is taken as ``robot``).
         controller: A named controller (``mpcwalk controllers``) or a
-            :class:`~mpcwalk.walking.spec.ControllerSpec`.
+            :class:`~mpcwalk.walking.specification.ControllerSpec`.
         command: Velocity command ``(vx, vy, vyaw)`` in [m/s, m/s, rad/s].
         path: ``.mdat`` path file instead of a command.
         nb_steps: Number of steps (command: a closing step is added).

@@ -1,8 +1,8 @@
-"""Walks as the cases of a sweep: a case *is* a :class:`~mpcwalk.walking.spec.WalkSpec`.
+"""Walks as the cases of a sweep: a case *is* a :class:`~mpcwalk.walking.specification.WalkSpec`.
 
 The sweep engine (:mod:`mpcwalk.sweep`) runs any case that has a ``case_id`` and its
 columns; a walk's specification is one: its id the hash of the specification
-(:attr:`WalkSpec.case_id <mpcwalk.walking.spec.WalkSpec.case_id>`), its columns
+(:attr:`WalkSpec.case_id <mpcwalk.walking.specification.WalkSpec.case_id>`), its columns
 :data:`CASE_COLUMNS` and its labels (:func:`spec_columns`), its row the measures of
 :data:`WALK_COLUMNS` (:func:`run_walk_case`, on the worker's copy of the robot), and the
 ``mpcwalk walk`` command that walks it again alone (:func:`command_line`).
@@ -11,7 +11,7 @@ columns; a walk's specification is one: its id the hash of the specification
 import shlex
 from typing import Any
 
-from mpcwalk.walking.spec import WalkSpec
+from mpcwalk.walking.specification import WalkSpec
 
 #: Columns of a case in a results table (then its labels, then the run's columns).
 CASE_COLUMNS = (

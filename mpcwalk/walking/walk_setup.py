@@ -25,7 +25,7 @@ from mpcwalk.sim import ExternalForce
 from mpcwalk.walking.controller_builder import check_controller, walk_timing
 from mpcwalk.walking.footstep_planning import plan_walk_footsteps
 from mpcwalk.walking.outputs import check_video_path
-from mpcwalk.walking.spec import WalkSpec
+from mpcwalk.walking.specification import WalkSpec
 
 #: Largest push force, in multiples of the robot's weight.
 MAX_PUSH_WEIGHTS = 100.0

@@ -16,13 +16,13 @@ from mpcwalk.footsteps.footstep import Side, wrap_angle
 from mpcwalk.walking.metrics import landing_check_times
 from mpcwalk.walking.result import WalkResult
 from mpcwalk.walking.runner import run_walk
-from mpcwalk.walking.spec import ControllerSpec, WalkSpec
+from mpcwalk.walking.specification import ControllerSpec, WalkSpec
 
 
 @dataclass(frozen=True)
 class TimedController:
     """One controller of the comparison at its timing (a
-    :class:`~mpcwalk.walking.spec.ControllerSpec` is made of it: :meth:`controller`).
+    :class:`~mpcwalk.walking.specification.ControllerSpec` is made of it: :meth:`controller`).
 
     Attributes:
         label: Name in the table.

@@ -18,7 +18,7 @@ from mpcwalk.experiments.paper_m.push_grid import CaseResult, PushSweepConfig, S
 from mpcwalk.experiments.paper_m.walks import push_case_task, speed_task
 from mpcwalk.experiments.protocol import settings_of
 from mpcwalk.sweep import Sweep
-from mpcwalk.walking.spec import ControllerSpec
+from mpcwalk.walking.specification import ControllerSpec
 
 #: What :func:`run_paper_m_case` returns (push cells: the bisection; speed searches: theirs).
 CASE_COLUMNS = (

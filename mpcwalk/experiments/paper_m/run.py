@@ -30,7 +30,7 @@ from mpcwalk.experiments.paper_m.walks import (
 from mpcwalk.experiments.reporting import record_run
 from mpcwalk.sweep import Task, map_tasks, run_sweep
 from mpcwalk.walking.metrics import yaw_deviation_deg
-from mpcwalk.walking.spec import ControllerSpec
+from mpcwalk.walking.specification import ControllerSpec
 
 
 def _key(spec: ControllerSpec) -> str:

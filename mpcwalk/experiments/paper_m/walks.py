@@ -2,8 +2,8 @@
 walks, one cell of the push sweep, the speed search.
 
 Controllers are data: :data:`CONTROLLERS` maps a name to a
-:class:`~mpcwalk.walking.spec.ControllerSpec` (generator, feedback, stabilizers, options);
-tune them there. Each walk is a :class:`~mpcwalk.walking.spec.WalkSpec` of the controller
+:class:`~mpcwalk.walking.specification.ControllerSpec` (generator, feedback, stabilizers, options);
+tune them there. Each walk is a :class:`~mpcwalk.walking.specification.WalkSpec` of the controller
 and the walk's fields (:func:`walk_task`). The parameters of each walk are :mod:`mpcwalk.experiments.paper_m.config`'s.
 A walk survives by :func:`~mpcwalk.experiments.survival.survived`: it neither fell nor was
 stopped by the controller.
@@ -24,10 +24,10 @@ from mpcwalk.experiments.survival import find_largest_survived, survived
 from mpcwalk.footsteps.footstep import Side, wrap_angle
 from mpcwalk.walking.result import WalkResult
 from mpcwalk.walking.runner import run_walk
-from mpcwalk.walking.spec import ControllerSpec, WalkSpec
+from mpcwalk.walking.specification import ControllerSpec, WalkSpec
 from mpcwalk.walking.sweep_cases import worker_robot
 
-#: The controllers compared: name -> its :class:`~mpcwalk.walking.spec.ControllerSpec` (the
+#: The controllers compared: name -> its :class:`~mpcwalk.walking.specification.ControllerSpec` (the
 #: named controllers, ``mpcwalk controllers``, and two variants). Names that this
 #: installation does not know (generator, stabilizer) are skipped with the reason
 #: (:func:`controller_availability`). Every ratio is taken against ``paper-m``, paper M's
@@ -92,7 +92,7 @@ def walk_spec(
 ) -> WalkSpec:
     """The walk of a controller with the fields ``walk_args`` (``command``, ``duration``,
     ``nb_steps``, ``step_duration``, ``pushes``...: fields of a
-    :class:`~mpcwalk.walking.spec.WalkSpec`)."""
+    :class:`~mpcwalk.walking.specification.WalkSpec`)."""
     fields = dict(walk_args)
     if "pushes" in fields:
         fields["pushes"] = tuple(_push(p) for p in fields["pushes"])

@@ -111,7 +111,7 @@ def run_push_case(case: PushCase) -> dict[str, Any]:
     from mpcwalk.footsteps.velocity_planner import VelocityPlanner
     from mpcwalk.walking.controller_builder import walk_timing
     from mpcwalk.walking.runner import run_walk
-    from mpcwalk.walking.spec import ControllerSpec, PlanSpec, WalkSpec
+    from mpcwalk.walking.specification import ControllerSpec, PlanSpec, WalkSpec
 
     config = case.config
     robot = worker_robot(config.robot)

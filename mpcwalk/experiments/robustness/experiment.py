@@ -8,7 +8,7 @@ from mpcwalk.experiments.protocol import Experiment, read_table
 from mpcwalk.experiments.reporting import read_runs, runs_text
 from mpcwalk.experiments.robustness.config import MatrixConfig, load_matrix_config
 from mpcwalk.sweep import Sweep
-from mpcwalk.walking.spec import WalkSpec
+from mpcwalk.walking.specification import WalkSpec
 
 
 class Robustness(Experiment):

@@ -7,7 +7,7 @@ command within the robot's limits; a push on the torso (direction, phase of the 
 impulse as a fraction of the LIPM's no-step capture bound in that direction); torso mass;
 torso CoM offset; friction; sensor noise; latency; servo strength; ground tilt (towards a
 random azimuth); rough ground (a height field). Every controller of the robot walks every
-world (:func:`matrix_cases`: one :class:`~mpcwalk.walking.spec.WalkSpec` each, with the
+world (:func:`matrix_cases`: one :class:`~mpcwalk.walking.specification.WalkSpec` each, with the
 world's seed), so that the cells of the table compare like with like. The parameters are data
 (the ``config.toml`` beside this module,
 :func:`~mpcwalk.experiments.robustness.config.load_matrix_config`).
@@ -23,7 +23,7 @@ import numpy as np
 from mpcwalk.experiments.robustness.config import MatrixConfig, RobotPlan
 from mpcwalk.footsteps.capturability import capture_impulse_bound
 from mpcwalk.sweep import Sweep
-from mpcwalk.walking.spec import WalkSpec
+from mpcwalk.walking.specification import WalkSpec
 from mpcwalk.walking.sweep_cases import WALK_COLUMNS, worker_robot
 
 #: What a walk of the matrix measured: the sweep's walk columns and the walk's outcome
@@ -68,7 +68,7 @@ class World:
         factors: The factors changed.
         level: The single factor's level (:data:`LEVEL_UNITS`), None otherwise.
         seed: Seed of the walk (sensor noise, bumps).
-        changes: Fields of a :class:`~mpcwalk.walking.spec.WalkSpec` (the latency in control
+        changes: Fields of a :class:`~mpcwalk.walking.specification.WalkSpec` (the latency in control
             periods, ``latency_periods``), the command as a fraction of
             the robot's limits (``command_share``) and the push as ``push`` = (direction
             [deg], phase [share of the step], impulse share).
@@ -152,9 +152,9 @@ def _limits(robot) -> tuple[tuple[float, float], float, float]:
 
 
 def world_case(robot_name: str, plan: RobotPlan, controller: str, world: World, config) -> WalkSpec:
-    """The walk (:class:`~mpcwalk.walking.spec.WalkSpec`) of ``controller`` in ``world``."""
+    """The walk (:class:`~mpcwalk.walking.specification.WalkSpec`) of ``controller`` in ``world``."""
     from mpcwalk.walking.controller_builder import walk_timing
-    from mpcwalk.walking.spec import ControllerSpec, PlanSpec
+    from mpcwalk.walking.specification import ControllerSpec, PlanSpec
 
     robot = worker_robot(robot_name)
     own = walk_timing(ControllerSpec.named(controller).generator, robot.gait, PlanSpec())

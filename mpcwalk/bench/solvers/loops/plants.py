@@ -218,7 +218,7 @@ def run_mujoco_loop(
     if run_walk is None:
         return None
     from mpcwalk.bench.solvers.problems.families import WALKS
-    from mpcwalk.walking.spec import WalkSpec
+    from mpcwalk.walking.specification import WalkSpec
 
     command: VelocityCommand = WALKS[walk]
     empty = np.zeros(0)

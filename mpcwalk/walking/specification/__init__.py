@@ -9,18 +9,24 @@
 - :class:`RunSpec`: seed, progress bar, video.
 """
 
-from mpcwalk.walking.spec.controller import (
+from mpcwalk.walking.specification.controller import (
     CONTROLLERS,
     CUSTOM,
     SWING_PROFILES,
     ControllerSpec,
     controller_names,
 )
-from mpcwalk.walking.spec.disturbances import DisturbanceSpec, Push
-from mpcwalk.walking.spec.plan import PlanSpec
-from mpcwalk.walking.spec.spec_file import SPEC_FILE, read_spec, spec_to_toml, write_spec
-from mpcwalk.walking.spec.walk_spec import DEFAULT_CONTROLLER, FIELDS, PARTS, RunSpec, WalkSpec
-from mpcwalk.walking.spec.world import WorldSpec
+from mpcwalk.walking.specification.disturbances import DisturbanceSpec, Push
+from mpcwalk.walking.specification.plan import PlanSpec
+from mpcwalk.walking.specification.spec_file import SPEC_FILE, read_spec, spec_to_toml, write_spec
+from mpcwalk.walking.specification.walk_spec import (
+    DEFAULT_CONTROLLER,
+    FIELDS,
+    PARTS,
+    RunSpec,
+    WalkSpec,
+)
+from mpcwalk.walking.specification.world import WorldSpec
 
 __all__ = [
     "CONTROLLERS",

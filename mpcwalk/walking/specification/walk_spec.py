@@ -3,7 +3,7 @@
 A walk is a robot, a controller (:class:`ControllerSpec`), a plan (:class:`PlanSpec`), a
 world (:class:`WorldSpec`), disturbances (:class:`DisturbanceSpec`) and run options
 (:class:`RunSpec`): frozen, each part validated when it is made, written next to every
-result as TOML (:mod:`mpcwalk.walking.spec.spec_file`) and read back: the same
+result as TOML (:mod:`mpcwalk.walking.specification.spec_file`) and read back: the same
 specification gives the same walk. :func:`~mpcwalk.walking.runner.run_walk` runs one; a
 sweep's case is one (:attr:`WalkSpec.case_id`, the hash of the specification).
 
@@ -21,10 +21,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.walking.spec.controller import ControllerSpec
-from mpcwalk.walking.spec.disturbances import DisturbanceSpec
-from mpcwalk.walking.spec.plan import PlanSpec
-from mpcwalk.walking.spec.world import WorldSpec
+from mpcwalk.walking.specification.controller import ControllerSpec
+from mpcwalk.walking.specification.disturbances import DisturbanceSpec
+from mpcwalk.walking.specification.plan import PlanSpec
+from mpcwalk.walking.specification.world import WorldSpec
 
 #: The controller of a walk that names none.
 DEFAULT_CONTROLLER = "mpc"

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from mpcwalk.exceptions import SpecFileError
-from mpcwalk.walking.spec.walk_spec import PARTS, WalkSpec
+from mpcwalk.walking.specification.walk_spec import PARTS, WalkSpec
 
 if sys.version_info >= (3, 11):
     import tomllib
