@@ -176,9 +176,9 @@ def test_gyro_reads_the_imu_through_its_mounting_and_the_estimated_base(robot_na
 @pytest.mark.parametrize(
     "options, message",
     [
-        ({"knee": -0.01}, "knee must be a non-negative"),
-        ({"foot_roll": float("nan")}, "foot_roll must be a non-negative"),
-        ({"max_offset": "big"}, "max_offset must be a non-negative"),
+        ({"knee": -0.01}, r"knee must be a number >= 0 s \(rad per rad/s\), got -0.01"),
+        ({"foot_roll": float("nan")}, r"foot_roll must be a number >= 0 s .*got nan"),
+        ({"max_offset": "big"}, r"max_offset must be a number >= 0 rad, got 'big'"),
     ],
 )
 def test_gyro_bad_gains_are_named_errors(options, message):

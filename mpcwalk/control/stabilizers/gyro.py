@@ -138,7 +138,7 @@ class GyroStabilizer(Stabilizer):
                 f"GyroStabilizer {key}",
                 value,
                 low=0.0,
-                unit="s (rad per rad/s)",
+                unit="rad" if key == "max_offset" else "s (rad per rad/s)",
                 fix=f"paper M uses {PAPER_M_GAINS.get(key, 0.2)}",
             )
         self.gains = {key: float(gains[key]) for key in _JOINTS}
