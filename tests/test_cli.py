@@ -294,3 +294,58 @@ def test_walk_bad_world_options_exit_with_code_2(tmp_path, capsys, argv, message
     err = capsys.readouterr().err
     assert err.startswith("mpcwalk: error: ") and message in err, err
     assert not (tmp_path / "out" / "metrics.json").exists()
+
+
+#: The methods that build an argparse parser.
+_PARSER_CALLS = {
+    "add_argument",
+    "add_argument_group",
+    "add_mutually_exclusive_group",
+    "add_subparsers",
+}
+
+
+def _imports_and_parser_calls(path: Path) -> tuple[set[str], set[str]]:
+    """The modules a source file imports (at its top or inside a function), and the
+    argparse-building methods it calls."""
+    import ast
+
+    modules: set[str] = set()
+    calls: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+        if isinstance(node, ast.Import):
+            modules.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            modules.add(node.module)
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+            if node.func.attr in _PARSER_CALLS:
+                calls.add(node.func.attr)
+    return modules, calls
+
+
+def test_argparse_lives_in_the_command_line_package_only():
+    package = Path(mpcwalk.__file__).parent
+    sources = [p for p in package.rglob("*.py") if p.relative_to(package).parts[0] != "cli"]
+    assert len(sources) > 100
+    offenders = []
+    for path in sources:
+        modules, calls = _imports_and_parser_calls(path)
+        if calls or any(name.split(".")[0] == "argparse" for name in modules):
+            offenders.append(str(path.relative_to(package)))
+    assert not offenders, f"argparse outside mpcwalk/cli/: {offenders}"
+    modules, calls = _imports_and_parser_calls(package / "cli" / "bench.py")
+    assert "argparse" in modules and "add_argument" in calls  # the scan sees them
+
+
+def test_every_command_runs_through_a_run_of_the_cli_package():
+    parser = build_parser()
+    for argv in (
+        ["bench", "ticks"],
+        ["bench", "ik", "--robots", "g1", "--no-pink"],
+        ["bench", "loop"],
+        ["bench", "solvers", "--out", "x"],
+        ["experiment", "list"],
+        ["experiment", "run", "paper_m", "--out", "x"],
+    ):
+        run = parser.parse_args(argv).run
+        assert run.__module__.startswith("mpcwalk.cli."), (argv, run.__module__)

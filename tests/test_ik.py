@@ -350,9 +350,8 @@ def test_from_gait_builds_flat_feet_and_yaw():
 
 
 def test_benchmark_runs_ours_and_pink_on_the_same_problem():
-    import argparse
-
-    from mpcwalk.bench.ik import add_ik_bench_parser, format_ik_table, run_ik_benchmark
+    from mpcwalk.bench.ik import format_ik_table, run_ik_benchmark
+    from mpcwalk.cli import build_parser
 
     pytest.importorskip("pink")
     results = run_ik_benchmark(
@@ -367,7 +366,5 @@ def test_benchmark_runs_ours_and_pink_on_the_same_problem():
     assert abs(ours.com_error_max_mm - pink.com_error_max_mm) < 0.05 * pink.com_error_max_mm
     assert abs(ours.sole_error_max_mm - pink.sole_error_max_mm) < 0.05 * pink.sole_error_max_mm
     assert "| bioloid-like | pink (daqp) |" in format_ik_table(results)
-    parser = argparse.ArgumentParser()
-    add_ik_bench_parser(parser.add_subparsers(dest="bench_command"))
-    args = parser.parse_args(["ik", "--robots", "g1", "--no-pink"])
-    assert args.robots == "g1" and args.no_pink and callable(args.bench_func)
+    args = build_parser().parse_args(["bench", "ik", "--robots", "g1", "--no-pink"])
+    assert args.robots == "g1" and args.no_pink and callable(args.run)

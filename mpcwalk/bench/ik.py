@@ -13,8 +13,7 @@ Ratios are taken against pink with DAQP measured in the same run.
 import logging
 import time
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
@@ -271,46 +270,17 @@ def format_ik_table(results: list[IKBenchCase]) -> str:
     return "\n".join(lines)
 
 
-def _run_ik_command(args) -> int:
-    from mpcwalk.bench.output import machine_description, write_bench_output
+def ik_report(
+    results: list[IKBenchCase], *, duration: float, control_period: float, command_line: str
+) -> str:
+    """``ik.md``: what was timed, on which machine, the command line that reproduces it, and
+    the table of the results (:func:`format_ik_table`)."""
+    from mpcwalk.bench.output import machine_description
 
-    pink_solvers = () if args.no_pink else tuple(s for s in args.pink_solvers.split(",") if s)
-    results = run_ik_benchmark(
-        [name for name in args.robots.split(",") if name],
-        duration=args.duration,
-        control_period=args.control_period,
-        pink_solvers=pink_solvers,
-        progress=not args.no_progress,
-    )
-    table = format_ik_table(results)
     header = (
         f"Whole-body IK tick, ours beside pink: same tasks (CoM, soles, torso orientation, "
-        f"posture), weights, damping and limits; CoM sway and foot lift for {args.duration} s "
-        f"at {1.0 / args.control_period:g} Hz. Machine: {machine_description()}.\n"
-        f"Command: `mpcwalk bench ik --out {args.out}`\n"
+        f"posture), weights, damping and limits; CoM sway and foot lift for {duration} s "
+        f"at {1.0 / control_period:g} Hz. Machine: {machine_description()}.\n"
+        f"Command: `{command_line}`\n"
     )
-    write_bench_output(args.out, "ik", header + "\n" + table + "\n", [asdict(r) for r in results])
-    return 0
-
-
-def add_ik_bench_parser(bsub) -> None:
-    """Add ``mpcwalk bench ik`` to the ``bench`` sub-parsers ``bsub``."""
-    parser = bsub.add_parser(
-        "ik", help="per-tick time of the whole-body IK, ours beside pink, same tasks and motion"
-    )
-    parser.add_argument(
-        "--robots", default=",".join(DEFAULT_ROBOTS), help="comma-separated robot names"
-    )
-    parser.add_argument("--duration", type=float, default=2.0, help="motion length [s]")
-    parser.add_argument("--control-period", type=float, default=0.01, help="IK tick [s]")
-    parser.add_argument(
-        "--pink-solvers",
-        default=",".join(DEFAULT_PINK_SOLVERS),
-        help="comma-separated qpsolvers back-ends for pink",
-    )
-    parser.add_argument("--no-pink", action="store_true", help="skip the pink peer")
-    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
-    parser.add_argument(
-        "--out", type=Path, default=Path("results/ik"), help="output directory (ik.md, ik.json)"
-    )
-    parser.set_defaults(bench_func=_run_ik_command)
+    return header + "\n" + format_ik_table(results) + "\n"

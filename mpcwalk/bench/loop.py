@@ -12,9 +12,12 @@ in the same run.
 import time
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
-from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from mpcwalk.bench.ik import IKBenchCase
 
 #: The walks the robots/MuJoCo issue asks for: (robot, generator, command (vx, vy, vyaw),
 #: number of steps, step duration or None for the preset's).
@@ -253,14 +256,16 @@ def format_loop_table(cases: Sequence[LoopCase]) -> str:
     return "\n".join(lines)
 
 
-def _run_loop_command(args) -> int:
-    from mpcwalk.bench.ik import format_ik_table, run_ik_benchmark
-    from mpcwalk.bench.output import machine_description, write_bench_output
+def loop_report(
+    cases: Sequence[LoopCase], ik: "Sequence[IKBenchCase]", *, command_line: str
+) -> str:
+    """``loop.md``: what was timed, on which machine, the command line that reproduces it,
+    the walks (:func:`format_loop_table`) and the IK beside pink on the same robots
+    (:func:`~mpcwalk.bench.ik.format_ik_table`)."""
+    from mpcwalk.bench.ik import format_ik_table
+    from mpcwalk.bench.output import machine_description
 
-    cases = run_loop_benchmark(progress=not args.no_progress)
-    robots = sorted({c.robot for c in cases}, key=[w[0] for w in DEFAULT_WALKS].index)
-    ik = run_ik_benchmark(robots, progress=not args.no_progress)
-    text = (
+    return (
         f"The walks of the robots/MuJoCo issue in MuJoCo, control period 10 ms, one process, "
         f"walks one after the other, on the estimated state with the default sensor noise and "
         f"latency; medians per tick. Floor: the same robot standing in the same simulation, "
@@ -268,28 +273,15 @@ def _run_loop_command(args) -> int:
         f"then with the ground truth and sensor readings of each period. Controller overhead: "
         f"the controller's tick less its generator and its IK (the estimator runs beside it, "
         f"timed apart). Machine: {machine_description()}.\n"
-        f"Command: `mpcwalk bench loop --out {args.out}`\n\n"
+        f"Command: `{command_line}`\n\n"
         + format_loop_table(cases)
         + "\n\nIK tick, ours beside pink on the same tasks, robot and motion (same run):\n\n"
-        + format_ik_table(ik)
+        + format_ik_table(list(ik))
         + "\n"
     )
+
+
+def loop_payload(cases: Sequence[LoopCase], ik: "Sequence[IKBenchCase]") -> dict[str, list]:
+    """``loop.json``: every walk (with its controller overhead) and every IK row."""
     walks = [{**asdict(c), "controller_overhead_us": c.controller_overhead_us} for c in cases]
-    payload: dict[str, list] = {"walks": walks, "ik": [asdict(r) for r in ik]}
-    write_bench_output(args.out, "loop", text, payload)
-    return 0
-
-
-def add_loop_bench_parser(bsub) -> None:
-    """Add ``bench loop`` to the bench sub-commands."""
-    loop = bsub.add_parser(
-        "loop", help="whole-loop timing of MuJoCo walks per robot, with the IK beside pink"
-    )
-    loop.add_argument("--no-progress", action="store_true", help="no progress bar")
-    loop.add_argument(
-        "--out",
-        type=Path,
-        default=Path("results/loop"),
-        help="output directory (loop.md, loop.json)",
-    )
-    loop.set_defaults(bench_func=_run_loop_command)
+    return {"walks": walks, "ik": [asdict(r) for r in ik]}

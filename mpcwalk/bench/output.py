@@ -15,11 +15,18 @@ def machine_description() -> str:
     )
 
 
-def write_bench_output(out: str | Path, name: str, text: str, payload: Any) -> None:
-    """Print ``text`` and write it to ``out/NAME.md``, and ``payload`` to ``out/NAME.json``."""
+def write_bench_output(out: str | Path, name: str, text: str, payload: Any) -> tuple[Path, Path]:
+    """Write ``text`` to ``out/NAME.md`` and ``payload`` to ``out/NAME.json``; their paths.
+
+    Args:
+        out: Output folder (created).
+        name: File stem, the benchmark's name (``ticks``, ``ik``, ``loop``).
+        text: The markdown report.
+        payload: The results, as JSON.
+    """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    print(text)
-    (out / f"{name}.md").write_text(text.rstrip("\n") + "\n")
-    (out / f"{name}.json").write_text(json.dumps(payload, indent=2) + "\n")
-    print(f"\nwrote {out / f'{name}.md'} and {out / f'{name}.json'}")
+    markdown, data = out / f"{name}.md", out / f"{name}.json"
+    markdown.write_text(text.rstrip("\n") + "\n")
+    data.write_text(json.dumps(payload, indent=2) + "\n")
+    return markdown, data

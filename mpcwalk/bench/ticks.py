@@ -204,3 +204,28 @@ def format_table(results: list[TickCase]) -> str:
             f"{100 * r.zmp_margin_min_m:.2f} | {r.failures} |"
         )
     return "\n".join(lines)
+
+
+def tick_report(
+    results: list[TickCase],
+    *,
+    nb_steps: int,
+    command: VelocityCommand,
+    control_period: float,
+    command_line: str,
+) -> str:
+    """``ticks.md``: what was timed, on which machine, the command line that reproduces it,
+    and the table of the results (:func:`format_table`)."""
+    from mpcwalk.bench.output import machine_description
+    from mpcwalk.generators.mpc import MpcGenerator
+
+    params = MpcGenerator.default_parameters
+    header = (
+        f"Per-tick time of each pattern generator, {nb_steps}-step walk at "
+        f"v=({command.vx}, {command.vy}, {command.vyaw}), control period {control_period} s, "
+        f"MPC (and qpmpc peer) horizon {params.horizon} samples at {params.sampling_period} s; "
+        f"static gaits on slow timing (T = 2 s, r_ds = 0.5, same step lengths). "
+        f"Machine: {machine_description()}.\n"
+        f"Command: `{command_line}`\n"
+    )
+    return header + "\n" + format_table(results) + "\n"

@@ -7,7 +7,8 @@ the library; input checking at this boundary.
 - :mod:`~mpcwalk.cli.lists`: ``mpcwalk generators|controllers|stabilizers|solvers``;
 - :mod:`~mpcwalk.cli.robots`: ``mpcwalk robots [check NAME]``;
 - :mod:`~mpcwalk.cli.replay`: ``mpcwalk replay DIR``;
-- :mod:`~mpcwalk.cli.bench`: ``mpcwalk bench ...``;
+- :mod:`~mpcwalk.cli.bench` (with :mod:`~mpcwalk.cli.bench_solvers`): ``mpcwalk bench
+  ticks|ik|loop|solvers``;
 - :mod:`~mpcwalk.cli.experiment`: ``mpcwalk experiment list|run``.
 """
 

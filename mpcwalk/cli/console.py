@@ -1,7 +1,9 @@
-"""What the commands print: the help formatter, lengths in millimetres, a walk's summary."""
+"""The parsers' helpers (the help formatter, ``--out``'s type, negative numbers as values)
+and what the commands print (lengths in millimetres, a walk's summary)."""
 
 import argparse
 import re
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -32,6 +34,13 @@ def use_formatter(parser: argparse.ArgumentParser) -> None:
         if isinstance(action, argparse._SubParsersAction):
             for child in action.choices.values():
                 use_formatter(child)
+
+
+def out_path(text: str) -> Path:
+    """``--out``'s argument type: a non-empty path (``''`` would be the working folder)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("an output folder is needed, got an empty string")
+    return Path(text)
 
 
 def joined_negative_numbers(argv: list[str]) -> list[str]:

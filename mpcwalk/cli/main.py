@@ -7,7 +7,7 @@ import sys
 import traceback
 from pathlib import Path
 
-from mpcwalk.cli import bench, lists, plan, replay, robots, walk
+from mpcwalk.cli import bench, experiment, lists, plan, replay, robots, walk
 from mpcwalk.cli.console import joined_negative_numbers, use_formatter
 from mpcwalk.exceptions import MpcwalkError
 
@@ -36,8 +36,6 @@ def build_parser() -> argparse.ArgumentParser:
     walk.add_parser(sub)
     robots.add_parser(sub)
     replay.add_parser(sub)
-    from mpcwalk.cli import experiment
-
     experiment.add_parser(sub)
     use_formatter(parser)
     return parser

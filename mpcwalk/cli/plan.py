@@ -4,9 +4,8 @@ from a velocity command, a pattern generator over them, plots and ``metrics.json
 import argparse
 import sys
 
-from mpcwalk.cli.console import format_length
+from mpcwalk.cli.console import format_length, out_path
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.walking.outputs import out_path
 
 
 def add_parser(sub) -> argparse.ArgumentParser:

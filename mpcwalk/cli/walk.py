@@ -12,11 +12,11 @@ It writes into ``--out``: ``spec.toml`` (the walk, every default spelled out: ``
 import argparse
 import shutil
 
-from mpcwalk.cli.console import summary
+from mpcwalk.cli.console import out_path, summary
 from mpcwalk.cli.exits import OUTCOME_EXIT
 from mpcwalk.cli.walk_options import add_walk_options, spec_from_args
 from mpcwalk.exceptions import MpcwalkError
-from mpcwalk.walking.outputs import check_out_dir, log_mujoco_messages, out_path
+from mpcwalk.walking.outputs import check_out_dir, log_mujoco_messages
 
 
 def add_parser(sub) -> argparse.ArgumentParser:

@@ -5,5 +5,5 @@ into ``results/NAME``.
 
 Shared by all: :mod:`~mpcwalk.experiments.survival` (when a walk survives, and the largest
 push it survives), :mod:`~mpcwalk.experiments.reporting` (tables, medians, Wilson intervals,
-run records) and :mod:`~mpcwalk.experiments.command` (the command line).
+run records). The command line is :mod:`mpcwalk.cli.experiment`.
 """

@@ -30,15 +30,6 @@ def _nearest_existing(path: Path) -> Path:
     return current
 
 
-def out_path(text: str) -> Path:
-    """``--out``'s argument type: a non-empty path (``''`` would be the working folder)."""
-    if not text.strip():
-        import argparse
-
-        raise argparse.ArgumentTypeError("an output folder is needed, got an empty string")
-    return Path(text)
-
-
 def check_out_dir(out: Any, *, overwrite: bool = False, option: str = "--out") -> Path:
     """The output folder as a Path, checked without creating anything.
 
