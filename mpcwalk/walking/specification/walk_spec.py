@@ -24,6 +24,7 @@ from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.walking.specification.controller import ControllerSpec
 from mpcwalk.walking.specification.disturbances import DisturbanceSpec
 from mpcwalk.walking.specification.plan import PlanSpec
+from mpcwalk.walking.specification.records import command_line, spec_columns
 from mpcwalk.walking.specification.world import WorldSpec
 
 #: The controller of a walk that names none.
@@ -230,16 +231,12 @@ class WalkSpec:
 
     def to_columns(self) -> dict[str, Any]:
         """The walk as columns of a sweep's results table
-        (:func:`~mpcwalk.walking.sweep_cases.spec_columns`)."""
-        from mpcwalk.walking.sweep_cases import spec_columns
-
+        (:func:`~mpcwalk.walking.specification.records.spec_columns`)."""
         return spec_columns(self)
 
     def command_line(self, out: str = "walk") -> str:
         """The ``mpcwalk walk`` command that walks it again alone
-        (:func:`~mpcwalk.walking.sweep_cases.command_line`)."""
-        from mpcwalk.walking.sweep_cases import command_line
-
+        (:func:`~mpcwalk.walking.specification.records.command_line`)."""
         return command_line(self, out)
 
     @property
