@@ -103,7 +103,13 @@ def test_sigint_writes_the_partial_walk(tmp_path):
     command = [sys.executable, "-m", "mpcwalk", *ARGS, "--steps", "200", "--out", str(out)]
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
     process = subprocess.Popen(
-        command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env
+        command,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+        # a runner started in the background ignores SIGINT, and its children inherit that
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     time.sleep(10.0)  # imports and a few seconds of the 100 s walk (about 20 s of wall time)
     process.send_signal(signal.SIGINT)
