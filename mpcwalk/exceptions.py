@@ -61,6 +61,11 @@ class FootstepFileError(MpcwalkError, ValueError):
         super().__init__(f"{where}: {message}")
 
 
+class TerrainError(ConfigurationError):
+    """A terrain (its features, its file) is malformed, or does not fit the robot that
+    should walk it."""
+
+
 class SpecFileError(ConfigurationError):
     """A walk specification file (``spec.toml``) is missing, not TOML, or holds a part,
     field or value the specification refuses.
