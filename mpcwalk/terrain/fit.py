@@ -13,6 +13,8 @@ from mpcwalk.terrain.terrain import Terrain
 #: in the nominal posture): half a leg lifts the swing sole above the nose with the knee
 #: bent to about 90 deg.
 MAX_RISE_RATIO = 0.5
+#: Longest stride (sole centre to sole centre) on a terrain as a share of the leg length.
+MAX_STRIDE_RATIO = 0.8
 #: Steepest slope [deg] a flat sole stands on (with the friction of the scene, 1.0).
 MAX_WALKABLE_SLOPE_DEG = 20.0
 
@@ -51,6 +53,12 @@ class TerrainReach:
             object.__setattr__(self, name, value)
         if self.tread_margin is None:
             object.__setattr__(self, "tread_margin", 0.1 * self.sole_length)
+
+    @classmethod
+    def for_leg(cls, sole_length: float, sole_width: float, leg_length: float) -> "TerrainReach":
+        """The reach of a leg ``leg_length`` [m] long: strides of :data:`MAX_STRIDE_RATIO`
+        and rises of :data:`MAX_RISE_RATIO` of it."""
+        return cls(sole_length, sole_width, leg_length, MAX_STRIDE_RATIO * leg_length)
 
     @property
     def max_rise(self) -> float:
@@ -134,4 +142,4 @@ def check_terrain(terrain: Terrain, reach: TerrainReach, robot: str = "the robot
             refuse("a feature at infinity", "give a finite start")
 
 
-__all__ = ["MAX_RISE_RATIO", "TerrainReach", "check_terrain"]
+__all__ = ["MAX_RISE_RATIO", "MAX_STRIDE_RATIO", "TerrainReach", "check_terrain"]
