@@ -14,6 +14,7 @@ import pinocchio as pin
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Side
 from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.gait.height_profile import height_profile
 from mpcwalk.gait.swing_foot import FeetState, SwingFootTrajectory
 from mpcwalk.ik.targets import IKTargets
 
@@ -108,6 +109,9 @@ class GaitReference:
         return GaitTargets(feet, com_xy, float(yaw))
 
     def ik_targets(self, gait: GaitTargets, t: float) -> IKTargets:
-        """IK targets of ``gait`` at ``t``: the CoM at the CoM height above the mean height of
-        the footsteps planned on the ground."""
-        return gait.ik_targets(self.schedule.ground_height(t), self.com_height)
+        """IK targets of ``gait`` at ``t``: the CoM at the CoM height above the ground
+        reference of the schedule's height profile (the footsteps' heights, smoothed; see
+        :class:`~mpcwalk.gait.height_profile.HeightProfile`)."""
+        profile = height_profile(self.schedule, self.com_height)
+        ground = profile.level if profile.is_level else float(profile.ground(t))
+        return gait.ik_targets(ground, self.com_height)

@@ -385,14 +385,3 @@ class ContactSchedule:
     def stance(self, t: float) -> dict[Side, Footstep]:
         """Last landed pose of both feet at ``t`` (the swing foot: its lift pose)."""
         return dict(self._stances[self._stance_index(t)])
-
-    def ground_height(self, t: float) -> float:
-        """Mean height [m] of the two footsteps of :meth:`stance` at ``t`` (tabulated per
-        stance)."""
-        heights = self.__dict__.get("_stance_heights")
-        if heights is None:
-            heights = self.__dict__["_stance_heights"] = [
-                float(np.mean([foot.position[2] for foot in stance.values()]))
-                for stance in self._stances
-            ]
-        return heights[self._stance_index(t)]

@@ -29,6 +29,7 @@ from mpcwalk.footsteps.leg_limits import LegLimits
 from mpcwalk.footsteps.reachability import ReachabilityRectangle
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.gait_defaults import GaitDefaults
+from mpcwalk.gait.height_profile import height_profile
 from mpcwalk.generators.pattern_generator import GeneratorOutput
 from mpcwalk.generators.receding_horizon import RecedingHorizonGenerator
 from mpcwalk.models.com_state import ComState
@@ -274,7 +275,12 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
             absolute=self.footstep_reference == "absolute",
             offset=offset,
         )
-        qp.update(x0, t, slots.nominal_schedule.reference_velocity(times), supports, steps)
+        eta = None
+        profile = height_profile(slots.current, self.lipm.com_height)
+        if not profile.is_level:  # the time-varying LIPM of the footsteps' heights
+            g = self.lipm.gravity
+            eta = (profile.eta(times, g), profile.eta(qp.constraint_times(t), g))
+        qp.update(x0, t, slots.nominal_schedule.reference_velocity(times), supports, steps, eta)
         shift = (
             0.0
             if self._plan is None

@@ -21,6 +21,7 @@ from mpcwalk.exceptions import ConfigurationError, NotReset
 from mpcwalk.footsteps.leg_limits import LegLimits
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.gait_defaults import GaitDefaults
+from mpcwalk.gait.height_profile import height_profile
 from mpcwalk.generators.robot_traits import RobotTraits
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.com_state import ComState
@@ -289,8 +290,14 @@ class PatternGenerator(ABC):
         """Generator-specific tick from :attr:`time` to ``time + control_period``."""
 
     def _output(self, t: float, state: np.ndarray, **kwargs) -> GeneratorOutput:
-        """Output from a cart-table state of shape (3, 2)."""
-        zmp = state[0] - state[2] / self.lipm.omega**2
+        """Output from a cart-table state of shape (3, 2); off level footsteps, the ZMP of
+        the time-varying LIPM on the schedule's height profile."""
+        eta = 1.0 / self.lipm.omega**2
+        if self.schedule is not None:
+            profile = height_profile(self.schedule, self.lipm.com_height)
+            if not profile.is_level:
+                eta = float(profile.eta(t, self.lipm.gravity)[0])
+        zmp = state[0] - eta * state[2]
         return GeneratorOutput(
             time=t,
             com=state[0].copy(),

@@ -127,17 +127,23 @@ class FootstepQP:
         }
         # ZMP at the constraint points: from the state at the start of each interval.
         P = p.constraint_points
-        Cs, Cu = np.zeros((N, P, 3)), np.zeros((N, P, N))
+        # (states at the constraint points, then C of them: position and acceleration kept
+        # for a time-varying ZMP row, see :meth:`_with_heights`)
+        Ss, Su = np.zeros((N, P, 3, 3)), np.zeros((N, P, 3, N))
         for i in range(N):
             length = first if i == 0 else p.sampling_period
             start_s = np.eye(3) if i == 0 else Xs[i - 1]
             start_u = np.zeros((3, N)) if i == 0 else Xu[i - 1]
             for j in range(P):
                 Aj, Bj = CartTable.transition(length * (j + 1) / P)
-                Cs[i, j] = C @ Aj @ start_s
-                Cu[i, j] = C @ Aj @ start_u
-                Cu[i, j, i] += C @ Bj
-        pred["Czs"], pred["Czu"] = Cs.reshape(N * P, 3), Cu.reshape(N * P, N)
+                Ss[i, j] = Aj @ start_s
+                Su[i, j] = Aj @ start_u
+                Su[i, j, :, i] += Bj
+        pred["Czs"] = np.einsum("k,npkj->npj", C, Ss).reshape(N * P, 3)
+        pred["Czu"] = np.einsum("k,npkj->npj", C, Su).reshape(N * P, N)
+        for name, row in (("Cp", 0), ("Ca", 2)):
+            pred[name + "s"] = Ss[:, :, row].reshape(N * P, 3)
+            pred[name + "u"] = Su[:, :, row].reshape(N * P, N)
         H = (
             p.zmp_weight * pred["Pzu"].T @ pred["Pzu"]
             + p.velocity_weight * pred["Pvu"].T @ pred["Pvu"]
@@ -151,6 +157,22 @@ class FootstepQP:
         self._predictions[key] = pred
         return pred
 
+    def _with_heights(self, pred: dict, eta: np.ndarray, eta_points: np.ndarray) -> dict:
+        """Prediction matrices with the ZMP rows of a time-varying CoM height."""
+        p = self.parameters
+        out = dict(pred)
+        out["Pzs"] = pred["Pps"] - eta[:, None] * pred["Pas"]
+        out["Pzu"] = pred["Ppu"] - eta[:, None] * pred["Pau"]
+        out["Czs"] = pred["Cps"] - eta_points[:, None] * pred["Cas"]
+        out["Czu"] = pred["Cpu"] - eta_points[:, None] * pred["Cau"]
+        H = (
+            p.zmp_weight * out["Pzu"].T @ out["Pzu"]
+            + p.velocity_weight * pred["Pvu"].T @ pred["Pvu"]
+            + p.jerk_weight * np.eye(self.N)
+        )
+        out["H_jerk"] = 0.5 * (H + H.T)
+        return out
+
     def update(
         self,
         x0: np.ndarray,
@@ -158,10 +180,14 @@ class FootstepQP:
         velocity_reference: np.ndarray,
         supports: SampleSupports,
         steps: StepVariables,
+        eta: tuple[np.ndarray, np.ndarray] | None = None,
     ) -> None:
         """Assemble the QP of the tick at time ``t`` [s] from the CoM state ``x0`` (3, 2)
         (rows position [m], velocity [m/s], acceleration [m/s^2]), the reference velocity
-        (N, 2) [m/s], the supports of the samples and the footstep variables."""
+        (N, 2) [m/s], the supports of the samples and the footstep variables; ``eta``: the
+        time-varying LIPM's ``(z_c - z_p) / (g + z_c'')`` [s^2] at the samples (N,) and at
+        the constraint points (:meth:`constraint_times`), None at the model's constant
+        height."""
         x0 = np.asarray(x0, dtype=float)
         if x0.shape != (3, 2) or not np.all(np.isfinite(x0)):
             raise ConfigurationError(
@@ -170,7 +196,10 @@ class FootstepQP:
             )
         p, N, nf = self.parameters, self.N, self.nf
         times = self.sample_times_at(t)
-        self._pred = pred = self._prediction(times[0] - t)
+        pred = self._prediction(times[0] - t)
+        if eta is not None:
+            pred = self._with_heights(pred, *eta)
+        self._pred = pred
         last = p.constraint_points - 1
         S, M = supports.weights[last :: p.constraint_points], steps.reference_matrix
         centres = supports.centres[last :: p.constraint_points]

@@ -65,14 +65,22 @@ class _Layout(ABC):
         self.Pxs = self.Pps + self.Pvs / self.omega  # DCM
         self.Pxu = self.Ppu + self.Pvu / self.omega
         self.C = model.C
+        self.sample_C = np.broadcast_to(model.C, (N, 3))
+        """ZMP output row of each sample, shape (N, 3) (all ``C`` at a constant height)."""
+        self.eta: np.ndarray | None = None
+        """``(z_c - z_p) / (g + z_c'')`` [s^2] of each sample and of the tick when the CoM
+        height varies (:meth:`set_heights`), None at the model's constant height."""
         tick = control_period is not None and p.constrained
+        self._transition_dt = None
         if control_period is not None and tick:
             A_dt, B_dt = CartTable.transition(control_period)
+            self._transition_dt = (A_dt, B_dt)
             # (row acting on x0, coefficient of the first jerk) per tick row.
             self._tick = {
                 "zmp_tick": (self.C @ A_dt, self.C @ B_dt),
                 "com_tick": (A_dt[0], B_dt[0]),
             }
+        self._nominal = (self.Pzs, self.Pzu, self.sample_C, getattr(self, "_tick", None))
         # (kind, number of polygons): E rows per polygon.
         self.groups: list[tuple[str, int]] = []
         if p.constrained:
@@ -87,6 +95,40 @@ class _Layout(ABC):
                 self.groups.append(("com_tick", 1))
         self.m_ineq = E * sum(nb for _, nb in self.groups)
         self.has_tick = tick
+
+    def set_heights(self, eta: np.ndarray | None, eta_tick: float | None = None) -> bool:
+        """ZMP rows for a CoM height that varies along the horizon (time-varying LIPM:
+        ``p_i = c_i - eta_i c_i''``, ``eta_i = (z_c - z_p) / (g + z_c'')`` known at each
+        sample ``i``, shape (N,), and ``eta_tick`` at the next tick); None: back to the
+        model's constant height. Returns whether the rows changed (the caller then
+        recomputes the matrices' values)."""
+        if eta is None:
+            if self.eta is None:
+                return False
+            self.Pzs, self.Pzu, self.sample_C, tick = self._nominal
+            if tick is not None:
+                self._tick = tick
+            self.eta = None
+            self.__dict__.pop("_maps", None)
+            return True
+        eta = np.asarray(eta, dtype=float)
+        if self.eta is not None and np.array_equal(eta, self.eta):
+            return False
+        self.eta = eta.copy()
+        C = np.zeros((self.N, 3))
+        C[:, 0], C[:, 2] = 1.0, -eta
+        self.sample_C = C
+        self.Pzs = self.Pps - eta[:, None] * self.Pas
+        self.Pzu = self.Ppu - eta[:, None] * self.Pau
+        if self._transition_dt is not None:
+            A_dt, B_dt = self._transition_dt
+            c_tick = np.array([1.0, 0.0, -(eta[0] if eta_tick is None else eta_tick)])
+            self._tick = {
+                "zmp_tick": (c_tick @ A_dt, c_tick @ B_dt),
+                "com_tick": (A_dt[0], B_dt[0]),
+            }
+        self.__dict__.pop("_maps", None)
+        return True
 
     @abstractmethod
     def _entries(self, kind: str) -> tuple[np.ndarray, np.ndarray]:
@@ -339,7 +381,9 @@ class SparseLayout(_Layout):
         if kind == "dcm":
             return Ahp[-1][..., None] * np.array([1.0, 1.0 / self.omega])
         if kind == "zmp":
-            return Ahp[..., None] * self.C[[0, 2]]
+            if self.eta is None:
+                return Ahp[..., None] * self.C[[0, 2]]
+            return Ahp[..., None] * self.sample_C[:, None, None, [0, 2]]
         return Ahp
 
     def _free(self, kind: str, x0: np.ndarray) -> np.ndarray:
@@ -347,15 +391,20 @@ class SparseLayout(_Layout):
 
     def P_values(self, com_weights: np.ndarray) -> np.ndarray:
         p, s, N = self.parameters, 2.0 * self.cost_scale, self.N
-        block = p.zmp_weight * np.outer(self.C, self.C)
-        block[1, 1] += p.velocity_weight
-        blocks = np.broadcast_to(block, (2, N, 3, 3)).copy()
+        if self.eta is None:
+            block = p.zmp_weight * np.outer(self.C, self.C)
+            block[1, 1] += p.velocity_weight
+            blocks = np.broadcast_to(block, (2, N, 3, 3)).copy()
+        else:
+            per_sample = p.zmp_weight * np.einsum("ij,ik->ijk", self.sample_C, self.sample_C)
+            per_sample[:, 1, 1] += p.velocity_weight
+            blocks = np.broadcast_to(per_sample, (2, N, 3, 3)).copy()
         blocks[:, :, 0, 0] += com_weights[None, :]
         return s * np.concatenate([np.full(2 * N, p.jerk_weight), blocks.ravel()])
 
     def q(self, x0, zmp_ref, velocity_ref, com_ref, com_weights) -> np.ndarray:
         p, s, N = self.parameters, 2.0 * self.cost_scale, self.N
-        gx = -p.zmp_weight * zmp_ref.T[..., None] * self.C
+        gx = -p.zmp_weight * zmp_ref.T[..., None] * (self.C if self.eta is None else self.sample_C)
         if p.velocity_weight:
             gx[:, :, 1] -= p.velocity_weight * velocity_ref.T
         if com_ref is not None:  # None: no CoM term (zero weights)

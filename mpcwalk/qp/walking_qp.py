@@ -15,6 +15,7 @@ import scipy.sparse as sp
 
 from mpcwalk.exceptions import ConfigurationError, NotReset
 from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.gait.height_profile import height_profile
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp.fixed_pattern import FixedPattern
@@ -161,6 +162,11 @@ class WalkingQP:
         com_idx = tables.com_phases(idx, all_idx[N + 1 :])
         key = tables.polygon_id[np.concatenate([all_idx[: N + 1], com_idx])].tobytes()
         changed = False
+        if self._set_heights(schedule, t, times):
+            self._key = None  # the ZMP rows changed: every value is recomputed
+            self.P_data = layout.P_pattern.data(layout.P_values(self._com_weights))
+            self.P_version += 1
+            changed = True
         if key != self._key:
             self._key = key
             tick_idx = all_idx[0]
@@ -200,6 +206,19 @@ class WalkingQP:
         self.u = u0 if Ku is None else u0 + Ku @ state
         self.x0, self.time, self.sample_times = x0.copy(), float(t), times
         return changed
+
+    def _set_heights(self, schedule: ContactSchedule, t: float, times: np.ndarray) -> bool:
+        """The layout's ZMP rows for the CoM height the schedule's footsteps give over the
+        horizon (:class:`~mpcwalk.gait.height_profile.HeightProfile`); whether they
+        changed. On level footsteps the rows are the model's constant ones."""
+        lipm = self.model.lipm
+        profile = height_profile(schedule, lipm.com_height)
+        if profile.is_level:
+            return self.layout.set_heights(None)
+        eta = profile.eta(times, lipm.gravity)
+        tick = None if self.control_period is None else t + self.control_period
+        eta_tick = None if tick is None else float(profile.eta(tick, lipm.gravity)[0])
+        return self.layout.set_heights(eta, eta_tick)
 
     def tables(self, schedule: ContactSchedule) -> ScheduleTables:
         """Per-phase tables of ``schedule`` (built once per schedule)."""
