@@ -399,3 +399,35 @@ def test_the_estimate_of_a_mujoco_walk(name, speed, nb_steps, goal):
     assert _rms(com_velocity) < 0.05  # measured 18, 25, 26 mm/s
     assert _rms(tilt) < 0.5  # measured 0.09, 0.14, 0.19 deg
     assert abs(yaw[-1]) < 1.0  # measured 0.22, 0.18, 0.28 deg (the gyroscope's bias)
+
+
+def test_a_foot_is_anchored_at_the_height_the_terrain_map_gives():
+    """On a known terrain the touchdown height comes from the map, not from the legs'
+    kinematics (which sink with the contacts' compression)."""
+    from mpcwalk.estimation.base_estimator import BaseEstimator
+    from mpcwalk.terrain import Stairs, Terrain
+
+    terrain = Terrain([Stairs(0.2, rise=0.15, run=0.3, count=3)])
+    filters = {
+        "map": BaseEstimator(ground=terrain.height),
+        "kinematics": BaseEstimator(flat_ground=False),
+    }
+    anchors = np.array([[0.0, 0.1, 0.0], [0.0, -0.1, 0.0]])
+    for base in filters.values():
+        base.reset(np.array([0.0, 0.0, 0.8]), anchors, np.array([True, True]))
+    # the right foot lands on the first tread (0.15 m) where the legs say 0.13 m
+    feet = np.array([[0.0, 0.1, -0.8], [0.35, -0.1, -0.67]])
+    for tick in range(60):
+        landed = tick >= 10  # the right foot swings, then lands
+        for base in filters.values():
+            base.update(
+                np.zeros(3),
+                0.01,
+                np.eye(3),
+                feet,
+                np.zeros((2, 3)),
+                np.array([True, landed]),
+                np.array([0.5, 0.5]) if landed else np.array([1.0, 0.0]),
+            )
+    assert filters["map"].anchors[1, 2] == pytest.approx(0.15)
+    assert filters["kinematics"].anchors[1, 2] == pytest.approx(0.13, abs=1e-9)

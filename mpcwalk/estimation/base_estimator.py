@@ -26,6 +26,7 @@ The three axes share one 2 x 2 covariance (same noises on each axis).
 """
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -54,6 +55,9 @@ class BaseEstimator:
             (a flat floor). False takes the heights from the leg kinematics too (stairs,
             uneven ground); they then drift with the compression of the contacts.
         nb_feet: Number of feet.
+        ground: Height [m] of the known ground under a point ``(x, y)`` [m] (a terrain the
+            robot's map holds): every foot is anchored at the map's height under it, on any
+            terrain (``flat_ground`` is then ignored).
 
     Raises:
         ConfigurationError: A non-positive noise or a load fraction outside (0, 1].
@@ -68,6 +72,7 @@ class BaseEstimator:
         anchor_load_fraction: float = 0.5,
         flat_ground: bool = True,
         nb_feet: int = 2,
+        ground: Callable[[float, float], float] | None = None,
     ) -> None:
         self.acceleration_noise = _positive("acceleration_noise", acceleration_noise, "m/s^2")
         self.position_noise = _positive("position_noise", position_noise, "m")
@@ -77,7 +82,9 @@ class BaseEstimator:
                 f"anchor_load_fraction must be in (0, 1], got {anchor_load_fraction!r}."
             )
         self.anchor_load_fraction = float(anchor_load_fraction)
-        self.flat_ground = bool(flat_ground)
+        self.flat_ground = bool(flat_ground) and ground is None
+        self.ground = ground
+        """Height [m] of the known ground under a point (x, y) [m], or None."""
         self.nb_feet = int(nb_feet)
         self._state: np.ndarray | None = None  # rows: position, velocity; columns: x, y, z
         self._covariance = np.eye(2)
@@ -216,7 +223,11 @@ class BaseEstimator:
         if weights[foot] >= self.anchor_load_fraction:
             self._anchored[foot] = True
             self._frozen[foot] |= self._sum_weights[foot] == 0.0
-        if self.flat_ground and self._anchored[foot]:
+        if self.ground is not None and self._anchored[foot]:
+            # the map's height under the anchor: the leg kinematics drift with the
+            # contacts' compression, the known tread does not
+            self._anchors[foot, 2] = self.ground(*self._anchors[foot, :2])
+        elif self.flat_ground and self._anchored[foot]:
             if self._ground_height is None:
                 self._ground_height = float(self._anchors[foot, 2])
             self._anchors[foot, 2] = self._ground_height

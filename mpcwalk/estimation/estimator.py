@@ -39,6 +39,7 @@ from mpcwalk.estimation.kinematics import BaseKinematics, KinematicsPass, cross_
 from mpcwalk.exceptions import ConfigurationError, NotReset
 from mpcwalk.robot.robot import Robot
 from mpcwalk.robot.sensors import SensorReadings
+from mpcwalk.terrain import Terrain, sole_tilt
 
 MIN_VELOCITY_NOISE = 0.02
 """Smallest default velocity noise of the leg kinematics [m/s] (the contacts' compliance and
@@ -83,6 +84,10 @@ class Estimator:
             down is anchored (0.5: a symmetric handover between the feet).
         flat_ground: The feet touch down at the height of the first stance (a flat floor);
             False takes their heights from the leg kinematics (stairs, uneven ground).
+        terrain: The ground the robot's map holds (stairs, slopes, stones; None or a flat
+            terrain: the floor): the feet are anchored at its height under them, and the
+            loaded soles pull roll and pitch towards the tilt of the tops they stand on
+            (its normals) instead of the vertical.
 
     Raises:
         ConfigurationError: A bad period or gain (each component checks its own).
@@ -106,6 +111,7 @@ class Estimator:
         encoder_resolution: float = 0.0,
         anchor_load_fraction: float = 0.5,
         flat_ground: bool = True,
+        terrain: Terrain | None = None,
     ) -> None:
         if not (math.isfinite(control_period) and control_period > 0.0):
             raise ConfigurationError(f"control_period must be > 0 s, got {control_period!r}.")
@@ -116,7 +122,8 @@ class Estimator:
         self.weight = robot.total_mass * self.gravity
         self.omega = math.sqrt(self.gravity / robot.com_height)
         foot_tilt_gain = checked_number("foot_tilt_gain", foot_tilt_gain, low=0.0, unit="rad/s")
-        self.foot_tilt_gain = foot_tilt_gain if flat_ground else 0.0
+        self.terrain = None if terrain is None or terrain.is_flat else terrain
+        self.foot_tilt_gain = foot_tilt_gain if flat_ground or self.terrain else 0.0
         self.attitude = AttitudeFilter(
             gravity=self.gravity,
             gain=attitude_gain,
@@ -141,6 +148,7 @@ class Estimator:
             velocity_noise=velocity_noise,
             anchor_load_fraction=anchor_load_fraction,
             flat_ground=flat_ground,
+            ground=None if self.terrain is None else self.terrain.height,
         )
         length, width = robot.sole_size
         self._half_sole = np.array([0.5 * length, 0.5 * width, 0.0])
@@ -287,11 +295,36 @@ class Estimator:
         total = float(weights.sum())
         if total < 0.3:
             return self.attitude.rotation
-        up_in_base = weights @ pass_.foot_rotations[:, :, 2] / total  # sole z axes, base frame
+        if self.terrain is None:
+            up_in_base = weights @ pass_.foot_rotations[:, :, 2] / total  # sole z axes, base
+        else:  # the vertical seen from each sole on its tilted top
+            up_in_base = weights @ self._verticals_in_base(pass_) / total
         up = pass_.imu_rotation.T @ up_in_base
         return self.attitude.correct_vertical(
             up / math.sqrt(float(up @ up)), dt, self.foot_tilt_gain * min(total, 1.0)
         )
+
+    def _verticals_in_base(self, pass_: KinematicsPass) -> np.ndarray:
+        """The world's vertical in the base frame as each sole sees it, resting on the top of
+        the terrain under it (the sole's tilt on that top: the terrain's normal at the
+        sole's estimated heading), shape (2, 3)."""
+        base = self.attitude.rotation @ pass_.imu_rotation.T  # base orientation, world
+        out = np.empty((2, 3))
+        anchors = self.base.anchors
+        for foot in range(2):
+            rotation = pass_.foot_rotations[foot]  # sole in the base frame
+            world = base @ rotation
+            yaw = math.atan2(float(world[1, 0]), float(world[0, 0]))
+            x, y = anchors[foot, :2] if np.all(np.isfinite(anchors[foot])) else (np.nan, np.nan)
+            if not (math.isfinite(x) and math.isfinite(y)):
+                out[foot] = rotation[:, 2]
+                continue
+            roll, pitch = sole_tilt(self.terrain.normal(x, y), yaw)  # type: ignore[union-attr]
+            cr, sr, cp, sp = math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch)
+            # vertical in the sole frame: (Ry(pitch) Rx(roll))^T e_z
+            vertical = np.array([-sp, sr * cp, cr * cp])
+            out[foot] = rotation @ vertical
+        return out
 
     def _contact_points(self, readings: SensorReadings, forces: np.ndarray) -> np.ndarray:
         """Each foot's CoP in its sole frame, shape (2, 3), in [m], kept inside the sole;
