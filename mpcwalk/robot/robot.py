@@ -13,6 +13,7 @@ controller use a :class:`Robot` without loading the simulator
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -21,7 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
-from mpcwalk.exceptions import FrameNotFound
+from mpcwalk.exceptions import ConfigurationError, FrameNotFound
 from mpcwalk.footsteps import Footstep, LegLimits, Side
 from mpcwalk.gait.gait_defaults import GaitDefaults
 from mpcwalk.robot.preset import RobotPreset
@@ -70,6 +71,10 @@ class Robot:
             stance width of ``q0`` where the table has none, the :class:`LegLimits` defaults
             for the rest.
         servo_gains: Position servo stiffness, damping and torque limit of each joint.
+
+    The legs' traits are found from the kinematic tree, the same way for every robot:
+    :attr:`hip_joints` (the first joint of each leg from the base) and :attr:`leg_length`
+    (the hips' height above the soles in ``q0``).
     """
 
     name: str
@@ -97,6 +102,44 @@ class Robot:
     def total_mass(self) -> float:
         """Total mass [kg]."""
         return float(pin.computeTotalMass(self.model))
+
+    @functools.cached_property
+    def hip_joints(self) -> tuple[str, str]:
+        """The hip of each leg (left, right): the joint of each sole's chain closest to the
+        base that the other sole's chain does not hold (where the legs branch).
+
+        Raises:
+            ConfigurationError: A sole whose chain holds no joint of its own.
+        """
+        chains = []
+        for frame in self.foot_frames:
+            joint, chain = self.model.frames[self.frame_id(frame)].parentJoint, []
+            while joint > 0:
+                chain.append(int(joint))
+                joint = self.model.parents[joint]
+            chains.append(chain[::-1])  # from the base down to the sole
+        hips = []
+        for own, other in ((chains[0], chains[1]), (chains[1], chains[0])):
+            first = next((joint for joint in own if joint not in other), None)
+            if first is None:
+                raise ConfigurationError(
+                    f"Robot '{self.name}': the sole frames {self.foot_frames} share their whole "
+                    "joint chain, so no leg joint tells the hips; each foot frame must end a "
+                    "leg of its own."
+                )
+            hips.append(str(self.model.names[first]))
+        return hips[0], hips[1]
+
+    @functools.cached_property
+    def leg_length(self) -> float:
+        """The hips' height above the soles in the nominal posture ``q0`` [m] (the mean of
+        both legs; the hip: :attr:`hip_joints`)."""
+        pin.framesForwardKinematics(self.model, self.data, self.q0)
+        heights = []
+        for hip, sole in zip(self.hip_joints, self.foot_frames):
+            hip_z = self.data.oMi[self.model.getJointId(hip)].translation[2]
+            heights.append(float(hip_z - self.data.oMf[self.frame_id(sole)].translation[2]))
+        return 0.5 * (heights[0] + heights[1])
 
     def frame_id(self, frame: str) -> int:
         """Pinocchio frame index of ``frame``; raises :class:`FrameNotFound`."""
