@@ -33,7 +33,14 @@ from mpcwalk.exceptions import ConfigurationError, FrameNotFound, RobotNotFound
 from mpcwalk.robot.package_data import ROBOT_DATA, package_data_dir
 from mpcwalk.robot.preset import RobotPreset
 from mpcwalk.robot.robot import Robot, ServoGains
-from mpcwalk.robot.scene import IMU_SITE, SOLE_FRAMES, add_scene, add_urdf_robot_parts, urdf_spec
+from mpcwalk.robot.scene import (
+    IMU_SITE,
+    SOLE_FRAMES,
+    add_scene,
+    add_urdf_robot_parts,
+    keep_spec,
+    urdf_spec,
+)
 from mpcwalk.robot.urdf_repair import repair_inertias
 
 ROBOTS_DIR = package_data_dir(ROBOT_DATA)
@@ -132,7 +139,7 @@ def load_robot(name: str | Path, *, visual: bool = True) -> Robot:
             f"its description {preset.description} is not installed; "
             "`pip install example-robot-data` provides the URDF models",
         )
-    return _build_robot(preset, path, visual=visual)
+    return build_robot(preset, path, visual=visual)
 
 
 def _is_preset_path(name: str | Path) -> bool:
@@ -140,7 +147,9 @@ def _is_preset_path(name: str | Path) -> bool:
     return isinstance(name, Path) or str(name).endswith(".toml") or "/" in str(name)
 
 
-def _build_robot(preset: RobotPreset, path: Path, *, visual: bool) -> Robot:
+def build_robot(preset: RobotPreset, path: Path, *, visual: bool) -> Robot:
+    """The robot of ``preset`` from its description file ``path`` (:func:`load_robot` once
+    it found them)."""
     if preset.format == "mjcf":
         model = pin.buildModelFromMJCF(str(path))
         spec = mujoco.MjSpec.from_file(str(path))
@@ -174,6 +183,7 @@ def _build_robot(preset: RobotPreset, path: Path, *, visual: bool) -> Robot:
         raise ConfigurationError(
             f"Robot '{preset.name}': the first joint must be the floating base in both engines."
         )
+    keep_spec(mj_model, spec)  # to compile the scene again with a terrain
     q_index, v_index, qpos_index, dof_index, joint_names = [], [], [], [], []
     for joint_id in range(2, model.njoints):
         name = model.names[joint_id]
@@ -264,4 +274,12 @@ def _servo_gains(mj_model: mujoco.MjModel, joint_names: Sequence[str]) -> ServoG
     return ServoGains(frozen_array(stiffness), frozen_array(damping), frozen_array(torque_limit))
 
 
-__all__ = ["IMU_SITE", "PRESETS_DIR", "ROBOTS_DIR", "SOLE_FRAMES", "load_robot", "robot_names"]
+__all__ = [
+    "IMU_SITE",
+    "PRESETS_DIR",
+    "ROBOTS_DIR",
+    "SOLE_FRAMES",
+    "build_robot",
+    "load_robot",
+    "robot_names",
+]

@@ -4,11 +4,13 @@ For a URDF humanoid (:func:`urdf_spec`, :func:`add_urdf_robot_parts`): a floatin
 sole sites and contact boxes, the IMU site, position actuators and armatures, in MuJoCo and,
 for the frames and armatures, in Pinocchio. For every robot (:func:`add_scene`): the floor, a
 light and the sensors (IMU gyro, accelerometer and orientation; force, torque and touch at
-each sole).
+each sole). The loader keeps the spec of each robot's scene (:func:`keep_spec`), to compile
+it again with more in it (a terrain: :mod:`mpcwalk.robot.terrain_scene`).
 """
 
 import fnmatch
 import re
+import weakref
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -25,6 +27,9 @@ SOLE_FRAMES = ("left_sole", "right_sole")
 
 IMU_SITE = "imu"
 """Site (MuJoCo) and frame (Pinocchio) of the IMU."""
+
+#: The MuJoCo spec each loaded robot's ``mj_model`` was compiled from.
+_SPECS: "weakref.WeakKeyDictionary[mujoco.MjModel, mujoco.MjSpec]" = weakref.WeakKeyDictionary()
 
 _ERD_PACKAGE_URI = "package://example-robot-data/robots/"
 _MESH_SUFFIXES = (".stl", ".obj", ".msh")
@@ -126,6 +131,18 @@ def add_urdf_robot_parts(spec: mujoco.MjSpec, model: pin.Model, preset: RobotPre
             actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
     spec.option.timestep = preset.timestep
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+
+
+def keep_spec(model: mujoco.MjModel, spec: mujoco.MjSpec) -> None:
+    """Remember that ``model`` was compiled from ``spec`` (for :func:`kept_spec`)."""
+    _SPECS[model] = spec
+
+
+def kept_spec(model: mujoco.MjModel) -> mujoco.MjSpec | None:
+    """A copy of the spec ``model`` was compiled from, or None when it was not kept (a model
+    made in another process, or by hand)."""
+    spec = _SPECS.get(model)
+    return None if spec is None else spec.copy()
 
 
 def add_scene(spec: mujoco.MjSpec, preset: RobotPreset) -> None:

@@ -17,6 +17,7 @@ import numpy as np
 from mpcwalk.exceptions import ConfigurationError, SimulationUnstable
 from mpcwalk.robot.ground import Ground
 from mpcwalk.robot.robot import Robot
+from mpcwalk.robot.terrain_scene import terrain_model
 from mpcwalk.sim.contacts import ContactWrenches
 from mpcwalk.sim.ground_truth import GroundTruth
 from mpcwalk.sim.model_mismatch import ModelMismatch, trunk_body
@@ -24,6 +25,7 @@ from mpcwalk.sim.pushes import ExternalForce, resolve_body
 from mpcwalk.sim.sensing.model import SensorModel
 from mpcwalk.sim.sensing.simulator import SensorSimulator
 from mpcwalk.sim.sim_state import SimState
+from mpcwalk.terrain import Terrain
 
 _UNSTABLE_WARNINGS = (
     mujoco.mjtWarning.mjWARN_BADQACC,
@@ -44,10 +46,11 @@ def make_mj_data(robot: Robot, q: np.ndarray | None = None) -> mujoco.MjData:
 
 
 class Simulation:
-    """One robot on a flat floor in MuJoCo, driven by position actuators.
+    """One robot on a floor or a terrain in MuJoCo, driven by position actuators.
 
     The simulation owns a copy of ``robot.mj_model`` (changing its time step or its mismatch
-    leaves the robot's model alone). Each :meth:`step` holds the joint targets during one
+    leaves the robot's model alone), or of its scene with the terrain's blocks
+    (:func:`~mpcwalk.robot.terrain_scene.terrain_model`). Each :meth:`step` holds the joint targets during one
     control period of ``control_period / timestep`` physics steps and applies the external
     forces active at each physics step; the state it returns carries the ground truth, the
     sensor readings (delayed by the latency) and the oracle.
@@ -66,6 +69,8 @@ class Simulation:
             friction, servo strength); None for no difference.
         ground: Tilt and bumps of the ground (:class:`~mpcwalk.robot.ground.Ground`); None
             for the level floor.
+        terrain: Stairs, slopes, stones... laid along the robot's initial heading
+            (:class:`~mpcwalk.terrain.Terrain`); None for the level floor.
         contact_threshold: Vertical force [N] above which a foot is in contact in the ground
             truth; None for 1 % of the simulated robot's weight.
 
@@ -86,9 +91,11 @@ class Simulation:
         model_mismatch: ModelMismatch | None = None,
         contact_threshold: float | None = None,
         ground: Ground | None = None,
+        terrain: Terrain | None = None,
     ) -> None:
         self.robot = robot
-        self.model: mujoco.MjModel = copy.copy(robot.mj_model)
+        self.terrain = None if terrain is None or terrain.is_flat else terrain
+        self.model: mujoco.MjModel = copy.copy(terrain_model(robot, self.terrain))
         if timestep is not None:
             if not (math.isfinite(timestep) and timestep > 0.0):
                 raise ConfigurationError(f"timestep must be > 0 s, got {timestep!r}.")
@@ -107,6 +114,11 @@ class Simulation:
         self.model_mismatch = ModelMismatch() if model_mismatch is None else model_mismatch
         self.trunk_body = trunk_body(self.model, robot.torso_frame)
         self.ground = Ground() if ground is None else ground
+        if self.terrain is not None and self.ground.roughness > 0.0:
+            raise ConfigurationError(
+                "A terrain and a rough ground do not go together (the bumps' height field lies "
+                "at z = 0, under the terrain's blocks); lay a RoughPatch in the terrain instead."
+            )
         self.ground.apply(self.model, robot)  # before the friction reaches every contact
         self.model_mismatch.apply(self.model, trunk=self.trunk_body)
         self.data = mujoco.MjData(self.model)
