@@ -1,4 +1,10 @@
-"""Fall detection: the base too low or too tilted ends a run early and says why."""
+"""Fall detection: the base too low or too tilted ends a run early and says why.
+
+The base's height is measured from the ground under the robot: the level floor z = 0, or on
+a :class:`~mpcwalk.terrain.Terrain` the lowest ground under its base and its soles (a robot
+standing on a stair is as high above its ground as on the floor; one lying across the steps
+is low above the lowest of them).
+"""
 
 import math
 from dataclasses import dataclass
@@ -7,6 +13,7 @@ import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.sim.sim_state import SimState
+from mpcwalk.terrain import Terrain
 
 
 @dataclass(frozen=True)
@@ -36,6 +43,7 @@ class FallDetector:
             nominal height.
         max_tilt_deg: Fall when the angle between the base z axis and the vertical exceeds
             this [deg].
+        terrain: The ground the robot walks on; None for the level floor z = 0.
 
     Raises:
         ConfigurationError: A threshold outside its range.
@@ -47,6 +55,7 @@ class FallDetector:
         *,
         min_base_height_ratio: float = 0.5,
         max_tilt_deg: float = 45.0,
+        terrain: Terrain | None = None,
     ) -> None:
         if not (math.isfinite(nominal_base_height) and nominal_base_height > 0.0):
             raise ConfigurationError(
@@ -61,26 +70,38 @@ class FallDetector:
         self.nominal_base_height = float(nominal_base_height)
         self.min_base_height_ratio = float(min_base_height_ratio)
         self.max_tilt_deg = float(max_tilt_deg)
+        self.terrain = None if terrain is None or terrain.is_flat else terrain
 
     @classmethod
-    def for_robot(cls, robot, **thresholds) -> "FallDetector":
-        """Detector with the base height of ``robot.q0`` (soles on the ground) as nominal."""
-        return cls(float(robot.q0[2]), **thresholds)
+    def for_robot(cls, robot, *, terrain: Terrain | None = None, **thresholds) -> "FallDetector":
+        """Detector with the base height of ``robot.q0`` (soles on the ground) as nominal, on
+        ``terrain`` (None: the level floor)."""
+        return cls(float(robot.q0[2]), terrain=terrain, **thresholds)
 
     @property
     def min_base_height(self) -> float:
         """Base height [m] below which the robot has fallen."""
         return self.min_base_height_ratio * self.nominal_base_height
 
+    def ground_height(self, state: SimState) -> float:
+        """Height [m] of the ground the base's height is measured from: 0 on the level
+        floor, else the lowest ground under the base and the soles."""
+        if self.terrain is None:
+            return 0.0
+        points = np.vstack([np.asarray(state.base_position)[:2], state.sole_positions[:, :2]])
+        return float(np.min(self.terrain.height(points[:, 0], points[:, 1])))
+
     def check(self, state: SimState) -> FallStatus:
         """Whether the robot in ``state`` has fallen, and why."""
         if not (np.all(np.isfinite(state.q)) and np.all(np.isfinite(state.v))):
             return FallStatus(True, "the simulation state is not finite", state.time)
-        height = float(state.base_position[2])
+        ground = self.ground_height(state)
+        height = float(state.base_position[2]) - ground
         if height < self.min_base_height:
+            above = f" above the ground at {ground:.3f} m" if self.terrain is not None else ""
             return FallStatus(
                 True,
-                f"base height {height:.3f} m below {self.min_base_height:.3f} m "
+                f"base height {height:.3f} m{above} below {self.min_base_height:.3f} m "
                 f"({self.min_base_height_ratio:g} x nominal {self.nominal_base_height:.3f} m)",
                 state.time,
             )
