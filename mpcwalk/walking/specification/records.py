@@ -73,9 +73,14 @@ def _text(value: float) -> str:
     return repr(float(value)) if not float(value).is_integer() else f"{float(value):g}"
 
 
+#: The terrain file a walk on a terrain writes beside its results, which its command reads.
+TERRAIN_FILE = "terrain.toml"
+
+
 def command_line(spec: Any, out: str = "walk") -> str:
     """The ``mpcwalk walk`` command that walks ``spec`` again alone (fields left at their
-    defaults are left out; a controller composed by hand is given by its parts)."""
+    defaults are left out; a controller composed by hand is given by its parts; a terrain
+    as ``--terrain terrain.toml``, the terrain file written beside the walk's results)."""
     words = ["mpcwalk", "walk", "--robot", spec.robot]
     controller, plan, world = spec.controller, spec.plan, spec.world
     if controller.name in ("custom",):
@@ -125,6 +130,8 @@ def command_line(spec: Any, out: str = "walk") -> str:
         words += ["--state", str(world.state)]
     if tuple(world.com_offset) != (0.0, 0.0):
         words += ["--com-offset", ",".join(_text(v) for v in world.com_offset)]
+    if world.terrain is not None:
+        words += ["--terrain", TERRAIN_FILE]
     if plan.control_period != 0.01:
         words += ["--control-period", _text(plan.control_period)]
     words += ["--seed", str(spec.run.seed), "--out", out]
@@ -137,4 +144,4 @@ def command_line(spec: Any, out: str = "walk") -> str:
     return shlex.join(joined)
 
 
-__all__ = ["CASE_COLUMNS", "command_line", "latency_periods", "spec_columns"]
+__all__ = ["CASE_COLUMNS", "TERRAIN_FILE", "command_line", "latency_periods", "spec_columns"]

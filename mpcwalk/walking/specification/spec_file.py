@@ -3,8 +3,11 @@
 
 ``mpcwalk walk`` writes ``spec.toml`` next to ``metrics.json``: every field of every part,
 each with its unit and meaning in a comment, an unset field (its default decided when the
-walk runs, e.g. the robot model's friction) as a commented line. ``mpcwalk walk --spec FILE``
-reads it back; fields left out of a hand-written file take their defaults.
+walk runs, e.g. the robot model's friction) as a commented line. A terrain is written inline
+as the table ``[world.terrain]``, holding the tables of a terrain file
+(:mod:`mpcwalk.terrain.terrain_file`: ``[[world.terrain.stairs]]``...), so that the file alone
+walks the walk again. ``mpcwalk walk --spec FILE`` reads it back; fields left out of a
+hand-written file take their defaults.
 """
 
 import dataclasses
@@ -55,6 +58,7 @@ NOTES = {
     "ground_tilt": "[deg] slope of the ground",
     "ground_tilt_direction": "[deg] azimuth of the uphill direction (0: forward)",
     "ground_roughness": "[m] largest height of the ground's bumps",
+    "terrain": "stairs, slopes, stones... along the heading (unset: the level floor)",
     "pushes": "[start s, duration s, fx N, fy N, fz N] on the torso",
     "sensor_nan": "[start s, end s] windows of NaN readings",
     "sensor_dropout": "[start s, end s] windows without readings",
@@ -101,17 +105,32 @@ def spec_to_toml(spec: WalkSpec) -> str:
     ]
     for part, cls in PARTS.items():
         lines += ["", f"[{part}]"]
+        tables: list[str] = []  # after the part's fields: a table ends them
         for f in dataclasses.fields(cls):
             value = values[part][f.name]
             note = NOTES.get(f.name, "")
             if value is None:
                 lines.append(f"# {f.name} = (unset)  # {note}")
+            elif f.name == "terrain":
+                tables += _terrain_table(f"{part}.{f.name}", value)
             else:
                 lines.append(f"{f.name} = {_value(value)}" + (f"  # {note}" if note else ""))
+        lines += tables
     if values["labels"]:
         lines += ["", "[labels]"]
         lines += [f"{_key(k)} = {_value(v)}" for k, v in values["labels"].items()]
     return "\n".join(lines) + "\n"
+
+
+def _terrain_table(name: str, tables: dict[str, Any]) -> list[str]:
+    """The lines of a terrain (the tables of its file) as the table ``name``."""
+    lines = ["", f"[{name}]  # the tables of a terrain file, laid along the heading"]
+    lines += [f"width = {_value(tables['width'])}  # [m] across the heading"]
+    for key, features in tables.items():
+        for feature in features if key != "width" else ():
+            lines += ["", f"[[{name}.{key}]]"]
+            lines += [f"{field} = {_value(value)}" for field, value in feature.items()]
+    return lines
 
 
 def write_spec(spec: WalkSpec, path: str | Path) -> Path:

@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.terrain import Terrain, terrain_to_dict
 from mpcwalk.walking.specification.controller import ControllerSpec
 from mpcwalk.walking.specification.disturbances import DisturbanceSpec
 from mpcwalk.walking.specification.plan import PlanSpec
@@ -243,7 +244,10 @@ class WalkSpec:
     def case_id(self) -> str:
         """Hash of the specification and its labels (16 hexadecimal digits): the same
         walk, the same id."""
-        text = json.dumps(self.to_dict(), sort_keys=True, default=str)
+        values = self.to_dict()
+        if values["world"]["terrain"] is None:  # walks on the floor keep their ids
+            del values["world"]["terrain"]
+        text = json.dumps(values, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
@@ -261,7 +265,10 @@ def _controller(value: "str | ControllerSpec | None") -> ControllerSpec:
 
 
 def _plain(value: Any) -> Any:
-    """Tuples as lists, numpy scalars as Python numbers, recursively."""
+    """Tuples as lists, numpy scalars as Python numbers, a terrain as the tables of its
+    file, recursively."""
+    if isinstance(value, Terrain):
+        return terrain_to_dict(value)
     if isinstance(value, dict):
         return {k: _plain(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):

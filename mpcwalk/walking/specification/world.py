@@ -11,7 +11,10 @@ The simulated robot is a real one in these ways:
 - the :class:`~mpcwalk.sim.model_mismatch.ModelMismatch` of the simulated robot (torso mass, CoM
   offset, friction, servo strength), never applied to the controller's model;
 - the :class:`~mpcwalk.robot.ground.Ground` (tilt, bumps), the controller's model staying on
-  a level floor.
+  a level floor;
+- the :class:`~mpcwalk.terrain.Terrain` (stairs, slopes, platforms, stepping stones, rough
+  patches laid along the robot's initial heading), built into the simulated scene; the
+  walk's set-up checks that it fits the robot.
 
 ``ideal=True`` is the simulator before sensing: exact sensors, no latency and, unless
 ``state`` says otherwise, the controller reading the ground truth.
@@ -25,6 +28,7 @@ from mpcwalk.estimation.estimated_state import SOURCES
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.ground import Ground
 from mpcwalk.sim.model_mismatch import ModelMismatch
+from mpcwalk.terrain import Terrain, terrain_from_dict
 
 if TYPE_CHECKING:
     from mpcwalk.robot.robot import Robot
@@ -52,10 +56,15 @@ class WorldSpec:
         ground_tilt: Slope of the ground [deg], up towards ``ground_tilt_direction``.
         ground_tilt_direction: Azimuth of the uphill direction [deg] (0: forward, 90: left).
         ground_roughness: Largest height of the ground's random bumps [m] (0: flat).
+        terrain: The terrain (:class:`~mpcwalk.terrain.Terrain`, or the tables of a terrain
+            file as a dict, read as one); None, or a terrain without features: the level
+            floor.
 
     Raises:
         ConfigurationError: A value out of its range (the model mismatch's and the ground's
-            own errors name the range), or ``ideal`` with a noise scale or a latency.
+            own errors name the range), ``ideal`` with a noise scale or a latency, or a
+            terrain with a rough ground (:class:`~mpcwalk.exceptions.TerrainError`: a terrain
+            that is not one).
     """
 
     noise_scale: float = 1.0
@@ -69,6 +78,7 @@ class WorldSpec:
     ground_tilt: float = 0.0
     ground_tilt_direction: float = 0.0
     ground_roughness: float = 0.0
+    terrain: Terrain | None = None
 
     def __post_init__(self) -> None:
         if not (
@@ -109,6 +119,13 @@ class WorldSpec:
         object.__setattr__(self, "com_offset", _pair(self.com_offset))
         self.model_mismatch  # noqa: B018 - its checks, now
         self.ground(seed=0)  # likewise
+        object.__setattr__(self, "terrain", _terrain(self.terrain))
+        if self.terrain is not None and self.ground_roughness != 0.0:
+            raise ConfigurationError(
+                f"A terrain and ground_roughness = {self.ground_roughness!r} do not go together "
+                "(the bumps lie on the level floor, under the terrain's blocks); lay a [[rough]] "
+                "patch in the terrain instead."
+            )
 
     @property
     def model_mismatch(self) -> ModelMismatch:
@@ -175,6 +192,18 @@ class WorldSpec:
             },
             "seed": int(seed),
         }
+
+
+def _terrain(value: Any) -> Terrain | None:
+    """The terrain of a walk: None for the level floor."""
+    if isinstance(value, dict):
+        value = terrain_from_dict(value, source="[world.terrain]")
+    if value is not None and not isinstance(value, Terrain):
+        raise ConfigurationError(
+            f"terrain must be a Terrain, the tables of a terrain file or None, got {value!r}; "
+            "e.g. terrain=mpcwalk.terrain.read_terrain('stairs.toml')."
+        )
+    return None if value is None or value.is_flat else value
 
 
 def _pair(value: Any) -> tuple[float, float]:
