@@ -66,7 +66,8 @@ def run_walk(
             None: loaded from the specification.
         observer: Called after every tick with the time [s] and MuJoCo's ``qpos`` (a live
             view, :class:`~mpcwalk.viewer.live.LiveView`).
-        fall_detector: Fall detector (default: ``FallDetector.for_robot``).
+        fall_detector: Fall detector (default: ``FallDetector.for_robot`` on the walk's
+            terrain).
 
     Returns:
         The walk, its log, metrics, configuration and resolved specification. A fall ends
@@ -137,6 +138,7 @@ def _walk(
         model_mismatch=world.model_mismatch,
         seed=run.seed,
         ground=world.ground(seed=run.seed),
+        terrain=world.terrain,
     )
     estimator = (
         Estimator(  # tuned to the robot's data sheet, whatever the world's sensors do
@@ -147,7 +149,7 @@ def _walk(
         if world.state == "estimator"
         else None
     )
-    detector = fall_detector or FallDetector.for_robot(robot)
+    detector = fall_detector or FallDetector.for_robot(robot, terrain=world.terrain)
     faults = spec.disturbances.sensor_faults
     outcome = ControlLoop(robot, walker, simulation, estimator, detector, faults).run(
         video=run.video,

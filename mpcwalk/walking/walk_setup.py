@@ -5,21 +5,26 @@ The robot is loaded, the controller's configuration checked, the timing decided 
 else the generator's own, else the robot preset's), the footsteps planned and the contact
 schedule made, the pushes checked against the robot and the walk's length; the
 specification comes back *resolved*: the defaults it left to the robot spelled out, so that
-the ``spec.toml`` written next to the results walks the same walk again.
+the ``spec.toml`` written next to the results walks the same walk again. A terrain must fit
+the robot (its rises within its legs' reach, its treads longer than its soles:
+:func:`~mpcwalk.terrain.check_terrain`) and leave its initial stance on the level ground.
 """
 
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from mpcwalk._checks import checked_number
-from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.exceptions import ConfigurationError, TerrainError
 from mpcwalk.footsteps.footstep import FootGeometry, FootstepPlan, StepTiming
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators import generator_class
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.robot import Robot, load_robot
 from mpcwalk.sim import ExternalForce
+from mpcwalk.terrain import Terrain, TerrainReach, check_terrain
 from mpcwalk.walking.controller_builder import check_controller, walk_timing
 from mpcwalk.walking.footstep_planning import plan_walk_footsteps
 from mpcwalk.walking.outputs import check_video_path
@@ -76,6 +81,35 @@ def check_pushes(pushes: Any, robot: Robot, walk_end: float) -> list[ExternalFor
     return checked
 
 
+def check_walk_terrain(robot: Robot, terrain: Terrain | None) -> None:
+    """The terrain fits ``robot`` (:func:`~mpcwalk.terrain.check_terrain` with the reach of
+    its legs) and its initial soles, with a margin of a tenth of their length, stand on the
+    level ground at 0 m (None: the level floor).
+
+    Raises:
+        TerrainError: What does not fit, the limit in the message.
+    """
+    if terrain is None:
+        return
+    length, width = robot.sole_size
+    check_terrain(terrain, TerrainReach.for_leg(length, width, robot.leg_length), robot.name)
+    along, across = np.meshgrid(  # [m] sole frame: the sole, a tenth of its length more
+        np.linspace(-0.6 * length, 0.6 * length, 5), np.linspace(-0.5 * width, 0.5 * width, 5)
+    )
+    for foot in robot.initial_feet():
+        c, s = np.cos(foot.yaw), np.sin(foot.yaw)
+        x = foot.xy[0] + c * along - s * across
+        y = foot.xy[1] + s * along + c * across
+        if np.abs(terrain.height(x, y)).max() > 1e-9:
+            first = terrain.features[0]
+            raise TerrainError(
+                f"The terrain does not leave {robot.name} its initial stance on the level "
+                f"ground: {type(first).__name__} at {first.start:g} m lies under its soles, "
+                f"which reach x = {float(x.max()):.3f} m with a margin; start the first feature "
+                f"at {float(x.max()) + 0.01:.2f} m or beyond."
+            )
+
+
 @dataclass(frozen=True)
 class WalkSetup:
     """A walk ready to run.
@@ -123,6 +157,7 @@ def set_up_walk(spec: WalkSpec, robot: Robot | None = None) -> WalkSetup:
     if robot is None:
         robot = load_robot(spec.robot, visual=spec.run.video is not None)
     check_step_height(robot, plan.step_height)
+    check_walk_terrain(robot, world.terrain)
     if spec.run.video is not None:
         check_video_path(spec.run.video)
     check_controller(controller)
@@ -145,4 +180,4 @@ def set_up_walk(spec: WalkSpec, robot: Robot | None = None) -> WalkSetup:
     return WalkSetup(resolved, robot, timing, nb_steps, footsteps, schedule, pushes)
 
 
-__all__ = ["WalkSetup", "set_up_walk"]
+__all__ = ["WalkSetup", "check_walk_terrain", "set_up_walk"]
