@@ -5,8 +5,9 @@ and an exit code that means one thing.
 It writes into ``--out``: ``spec.toml`` (the walk, every default spelled out: ``mpcwalk walk
 --spec DIR/spec.toml`` walks it again), ``metrics.json``, the per-tick log
 (``walk_log.npz``, or ``.csv`` with ``--log-format csv``), ``top_view.png``,
-``com_cop.png``, ``estimator.png`` (when the controller walked on the estimator) and, with
-``--video``, ``walk.mp4``.
+``com_cop.png``, ``estimator.png`` (when the controller walked on the estimator), on a
+terrain (``--terrain FILE``) ``terrain.toml`` and ``side_view.png`` and, with ``--video``,
+``walk.mp4``.
 """
 
 import argparse
@@ -66,7 +67,7 @@ def run(args: argparse.Namespace) -> int:
     from mpcwalk.viewer.live import LiveView
 
     spec = spec_from_args(args, out=args.out)  # bad input: refused before a server starts
-    view = LiveView(load_robot(spec.robot), port=args.view_port)
+    view = LiveView(load_robot(spec.robot), port=args.view_port, terrain=spec.world.terrain)
     print(f"the walk, live on http://127.0.0.1:{view.server.get_port()}")
     try:
         return walk(args, observer=view)

@@ -12,6 +12,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from mpcwalk.cli.world_options import add_world_options, world_fields
 from mpcwalk.exceptions import ConfigurationError
 
 S = argparse.SUPPRESS
@@ -146,101 +147,7 @@ def add_walk_options(p: argparse.ArgumentParser) -> None:
     plan.add_argument(
         "--control-period", type=float, default=S, help="controller tick [s] (default: 0.01)"
     )
-    world = p.add_argument_group(
-        "sensors and world",
-        "The controller walks on the state estimated from the robot's sensors (IMU, encoders, "
-        "foot force/torque sensors, with the noise of the robot's sensor model and one control "
-        "period of latency); the simulated robot may differ from the controller's model.",
-    )
-    world.add_argument(
-        "--noise-scale",
-        type=float,
-        default=S,
-        metavar="X",
-        help="factor on the noise and bias of the sensor model (0: exact sensors; default: 1)",
-    )
-    world.add_argument(
-        "--latency",
-        type=float,
-        default=S,
-        metavar="S",
-        help="sensing-to-"
-        "actuation latency [s], a multiple of --control-period (default: one "
-        "control period)",
-    )
-    world.add_argument(
-        "--ideal",
-        action="store_true",
-        default=S,
-        help="exact sensors, no "
-        "latency, the controller on the simulator's ground truth (with --state "
-        "estimator: the estimator on exact sensors)",
-    )
-    world.add_argument(
-        "--state",
-        choices=("estimator", "oracle"),
-        default=S,
-        help="what the "
-        "controller reads: the state estimated from the sensors, or the "
-        "simulator's ground truth, for comparison (default: estimator; oracle "
-        "with --ideal)",
-    )
-    world.add_argument(
-        "--mass-scale",
-        type=float,
-        default=S,
-        metavar="X",
-        help="factor on the torso mass of the simulated robot, not of the controller's model "
-        "(default: 1)",
-    )
-    world.add_argument(
-        "--com-offset",
-        default=S,
-        metavar="DX,DY",
-        help="shift of the torso's CoM of the simulated robot [m], forward and left (default: 0,0)",
-    )
-    world.add_argument(
-        "--friction",
-        type=float,
-        default=S,
-        metavar="MU",
-        help="friction coefficient of the feet on the floor (default: the robot model's)",
-    )
-    world.add_argument(
-        "--servo-strength",
-        type=float,
-        default=S,
-        metavar="X",
-        help="factor on the servos' gains and torque limits of the simulated robot (default: 1)",
-    )
-    world.add_argument(
-        "--ground-tilt",
-        type=float,
-        default=S,
-        metavar="DEG",
-        help="slope of the simulated ground [deg], up towards --ground-tilt-direction",
-    )
-    world.add_argument(
-        "--ground-tilt-direction",
-        type=float,
-        default=S,
-        metavar="DEG",
-        help="azimuth of the uphill direction [deg] (0: the robot's forward, 90: its left)",
-    )
-    world.add_argument(
-        "--ground-roughness",
-        type=float,
-        default=S,
-        metavar="M",
-        help="largest height of the ground's random bumps [m] (a height field; 0: flat)",
-    )
-    world.add_argument(
-        "--seed",
-        type=int,
-        default=S,
-        metavar="N",
-        help="seed of the sensor noise and the bumps (default: 0)",
-    )
+    add_world_options(p)
     p.add_argument(
         "--push",
         dest="pushes",
@@ -297,8 +204,7 @@ def spec_from_args(args: argparse.Namespace, *, out: Path) -> Any:
         fields["duration"] = None
     if "duration" in given:
         fields["nb_steps"] = None
-    if "com_offset" in given:
-        fields["com_offset"] = _com_offset(given["com_offset"])
+    fields.update(world_fields(given))
     if "pushes" in given:
         fields["pushes"] = tuple(parse_push(text) for text in given["pushes"])
         fields["yaw_reference"] = True
@@ -344,17 +250,6 @@ def _stabilizers(spec: Any, given: dict[str, Any], *, by_hand: bool) -> Any:
     if tuple(names) == spec.controller.stabilizers and len(changes) == 1:
         return spec
     return spec.replace(**changes)
-
-
-def _com_offset(text: Any) -> tuple[float, float]:
-    try:
-        dx, dy = (float(part) for part in str(text).split(","))
-    except ValueError:
-        raise ConfigurationError(
-            f"--com-offset takes two numbers DX,DY in metres, got {str(text)!r}; "
-            "e.g. --com-offset 0.01,0 shifts the torso's CoM 1 cm forward."
-        ) from None
-    return dx, dy
 
 
 __all__ = ["DEFAULT_ROBOT", "add_walk_options", "spec_from_args"]

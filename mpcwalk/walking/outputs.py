@@ -137,17 +137,25 @@ def log_mujoco_messages(out: Path) -> None:
 
 def write_walk_outputs(result: Any, out: Path, *, log_format: str = "npz") -> list[Path]:
     """A walk's results in ``out``, each atomically: ``spec.toml`` (the resolved
-    specification), the per-tick log, the figures (and the video, written during the walk),
-    then ``metrics.json`` last. Returns the paths written."""
+    specification), on a terrain ``terrain.toml`` (its terrain file, ``--terrain``), the
+    per-tick log, the figures (on a terrain also ``side_view.png``; the video is written
+    during the walk), then ``metrics.json`` last. Returns the paths written."""
     from functools import partial
 
+    from mpcwalk.terrain import terrain_to_toml
     from mpcwalk.walking.figures import plot_estimator, plot_walk_over_time, plot_walk_top_view
+    from mpcwalk.walking.side_view import plot_walk_side_view
     from mpcwalk.walking.specification import SPEC_FILE, spec_to_toml
+    from mpcwalk.walking.specification.records import TERRAIN_FILE
 
     out.mkdir(parents=True, exist_ok=True)
     (out / METRICS_FILE).unlink(missing_ok=True)  # --overwrite: no stale metrics meanwhile
     spec_text = spec_to_toml(result.spec)
     written = [write_atomic(out / SPEC_FILE, lambda tmp: tmp.write_text(spec_text, "utf-8"))]
+    terrain = result.spec.world.terrain
+    if terrain is not None:
+        text = terrain_to_toml(terrain)
+        written.append(write_atomic(out / TERRAIN_FILE, lambda tmp: tmp.write_text(text)))
     log_path = out / f"walk_log.{log_format}"
     written.append(write_atomic(log_path, lambda tmp: result.log.save(tmp)))
     plan = result.spec.plan
@@ -162,6 +170,8 @@ def write_walk_outputs(result: Any, out: Path, *, log_format: str = "npz") -> li
         plots = [("top_view.png", plot_walk_top_view), ("com_cop.png", plot_walk_over_time)]
         if result.config.state_source == "estimator":
             plots.append(("estimator.png", plot_estimator))
+        if terrain is not None:
+            plots.append(("side_view.png", partial(plot_walk_side_view, terrain=terrain)))
         for name, plot in plots:
             figure = plot(result.schedule, result.log, title=title)
             written.append(write_atomic(out / name, partial(figure.savefig, dpi=120)))
