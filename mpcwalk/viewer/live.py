@@ -11,6 +11,7 @@ import numpy as np
 import viser
 
 from mpcwalk.robot import Robot
+from mpcwalk.terrain import Terrain
 from mpcwalk.viewer.walk_viewer import RobotScene
 
 
@@ -22,6 +23,7 @@ class LiveView:
         server: A running server, or None to start one on ``host:port``.
         speed: Simulated seconds per wall-clock second (0: as fast as the loop runs).
         fps: Largest number of updates of the scene per second.
+        terrain: The terrain it walks on, drawn as boxes (None: the level floor).
     """
 
     def __init__(
@@ -33,9 +35,10 @@ class LiveView:
         host: str = "127.0.0.1",
         speed: float = 1.0,
         fps: float = 30.0,
+        terrain: Terrain | None = None,
     ) -> None:
         self.server = server or viser.ViserServer(host=host, port=port, verbose=False)
-        self.scene = RobotScene(robot, self.server)
+        self.scene = RobotScene(robot, self.server, terrain)
         self.speed, self.period = float(speed), 1.0 / float(fps)
         self.updates = 0
         self.time = 0.0

@@ -1,5 +1,5 @@
-"""Open a walk's output folder (``metrics.json`` and
-``walk_log.npz`` of ``mpcwalk walk``) in the browser viewer."""
+"""Open a walk's output folder (``metrics.json``, ``walk_log.npz`` and, for its terrain,
+``spec.toml`` of ``mpcwalk walk``) in the browser viewer."""
 
 import json
 from pathlib import Path
@@ -11,6 +11,7 @@ from mpcwalk.robot import load_robot
 from mpcwalk.viewer.walk_viewer import WalkViewer
 from mpcwalk.walking.footstep_planning import plan_walk_footsteps
 from mpcwalk.walking.log import WalkLog
+from mpcwalk.walking.specification import SPEC_FILE, read_spec
 
 
 def open_walk(folder: str | Path, *, port: int = 8080, host: str = "127.0.0.1") -> WalkViewer:
@@ -49,4 +50,7 @@ def open_walk(folder: str | Path, *, port: int = 8080, host: str = "127.0.0.1") 
     )
     schedule = ContactSchedule(plan, FootGeometry(*robot.sole_size))
     pushes = [(p[0], p[1], p[2:5]) for p in config.get("pushes", [])]
-    return WalkViewer(robot, WalkLog.load(log_file), schedule, pushes=pushes, port=port, host=host)
+    spec_file = folder / SPEC_FILE  # the walk, for its terrain
+    terrain = read_spec(spec_file).world.terrain if spec_file.is_file() else None
+    log = WalkLog.load(log_file)
+    return WalkViewer(robot, log, schedule, pushes=pushes, port=port, host=host, terrain=terrain)

@@ -6,7 +6,8 @@ at each time from the logged base pose and joint angles through MuJoCo's forward
 The rest comes from the log and the plan: planned footsteps (outlines), landed soles
 (filled, where each foot was measured after landing), the measured CoM, the ZMP reference
 and the measured CoP (per support phase), the support polygon of the planned feet on the
-ground at the slider's time, and the pushes as arrows at the torso. The GUI holds the time
+ground at the slider's time, and the pushes as arrows at the torso. A walk on a terrain
+shows its blocks (:meth:`Terrain.boxes <mpcwalk.terrain.Terrain.boxes>`) as boxes. The GUI holds the time
 slider, a play/pause checkbox and the playback speed.
 """
 
@@ -23,12 +24,14 @@ import viser
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.models.support_polygon import foot_rectangle
 from mpcwalk.robot import Robot
+from mpcwalk.terrain import Terrain
 from mpcwalk.walking.log import WalkLog
 from mpcwalk.walking.metrics import landing_check_times
 
 _COLORS = {"left": (40, 110, 200), "right": (210, 50, 50)}
 _BODY = (170, 175, 185)
 _SOLE_THICKNESS = 0.002  # [m] of the footstep plates
+_TERRAIN = (158, 143, 122)
 
 
 def robot_geoms(model: mujoco.MjModel) -> list[int]:
@@ -43,13 +46,32 @@ def _quaternion(matrix: np.ndarray) -> np.ndarray:
     return quaternion  # w, x, y, z: viser's order
 
 
+def add_terrain(server: viser.ViserServer, terrain: Terrain | None) -> dict[str, Any]:
+    """The blocks of ``terrain`` as boxes under ``/terrain`` (none for the level floor);
+    returns their handles by name."""
+    handles: dict[str, Any] = {}
+    for k, box in enumerate(terrain.boxes() if terrain is not None else ()):
+        name = f"/terrain/box_{k}"
+        handles[name] = server.scene.add_box(
+            name,
+            color=_TERRAIN,
+            dimensions=2.0 * np.asarray(box.half_size),
+            wxyz=box.quaternion,
+            position=box.center,
+        )
+    return handles
+
+
 class RobotScene:
     """The robot's bodies on a Viser server, drawn from its MuJoCo model: every visual geom
-    of its bodies becomes a node under ``/robot``, placed by :meth:`place`."""
+    of its bodies becomes a node under ``/robot``, placed by :meth:`place`; the blocks of
+    its ``terrain`` (None: the level floor) under ``/terrain``."""
 
-    def __init__(self, robot: Robot, server: viser.ViserServer) -> None:
+    def __init__(
+        self, robot: Robot, server: viser.ViserServer, terrain: Terrain | None = None
+    ) -> None:
         self.robot, self.server = robot, server
-        self.handles: dict[str, Any] = {}
+        self.handles: dict[str, Any] = add_terrain(server, terrain)
         self._data = mujoco.MjData(robot.mj_model)
         self._geoms = robot_geoms(robot.mj_model)
         self._add_robot()
@@ -109,6 +131,7 @@ class WalkViewer:
         server: A running Viser server, or None to start one on ``host:port``.
         port: Port of a new server (0: any free one).
         host: Host of a new server.
+        terrain: The terrain it walked on (None: the level floor).
     """
 
     def __init__(
@@ -121,12 +144,13 @@ class WalkViewer:
         server: viser.ViserServer | None = None,
         port: int = 8080,
         host: str = "127.0.0.1",
+        terrain: Terrain | None = None,
     ) -> None:
         self.robot, self.log, self.schedule = robot, log, schedule
         self.pushes = [(float(s), float(d), np.asarray(f, dtype=float)) for s, d, f in pushes]
         self.server = server or viser.ViserServer(host=host, port=port, verbose=False)
         self.handles: dict[str, Any] = {}
-        self.robot_scene = RobotScene(robot, self.server)
+        self.robot_scene = RobotScene(robot, self.server, terrain)
         self.handles.update(self.robot_scene.handles)
         self._frame_the_walk()
         self._add_footsteps()
@@ -155,7 +179,7 @@ class WalkViewer:
         scene, plan, foot = self.server.scene, self.schedule.plan, self.schedule.foot
         for k, step in enumerate(plan.steps):
             outline = foot_rectangle(step.xy, step.yaw, foot.length, foot.width).vertices
-            points = np.column_stack([outline, np.full(len(outline), 0.001)])
+            points = np.column_stack([outline, np.full(len(outline), step.position[2] + 0.001)])
             segments = np.stack([points, np.roll(points, -1, axis=0)], axis=1)
             self._add(
                 f"/footsteps/planned/{k}",
@@ -180,7 +204,7 @@ class WalkViewer:
                     wxyz=tuple(
                         pin.Quaternion(pin.rpy.rpyToMatrix(0.0, 0.0, yaw)).coeffs()[[3, 0, 1, 2]]
                     ),
-                    position=(*log.sole_positions[i, j, :2], 0.5 * _SOLE_THICKNESS),
+                    position=tuple(log.sole_positions[i, j] + [0, 0, 0.5 * _SOLE_THICKNESS]),
                 ),
             )
 
