@@ -145,6 +145,7 @@ def _walk(
             robot,
             control_period=period,
             encoder_resolution=SensorModel.for_robot(robot).encoder_resolution,
+            terrain=world.terrain,  # the robot's map of the ground
         )
         if world.state == "estimator"
         else None
