@@ -12,6 +12,7 @@ import pytest
 
 from mpcwalk.cli import main as cli_main
 from mpcwalk.robot import load_robot
+from mpcwalk.terrain import read_terrain
 from mpcwalk.viewer.live import LiveView
 from mpcwalk.viewer.replay import open_walk
 from mpcwalk.walking.runner import run_walk
@@ -54,6 +55,24 @@ def test_the_replay_scene_holds_the_walk(walk_folder):
         start = viewer.time
         time.sleep(0.5)
         assert viewer.time > start
+    finally:
+        viewer.close()
+
+
+def test_the_replay_of_a_walk_on_a_terrain_shows_its_blocks(tmp_path):
+    terrain_file = tmp_path / "low.toml"
+    terrain_file.write_text("[[stairs]]\nstart = 0.3\nrise = 0.04\nrun = 0.25\ncount = 2\n")
+    out = tmp_path / "out"
+    argv = ["walk", "--terrain", str(terrain_file), "--steps", "1", "--no-progress"]
+    assert cli_main([*argv, "--out", str(out)]) in (0, 1)
+    viewer = open_walk(out, port=0)
+    try:
+        boxes = read_terrain(terrain_file).boxes()
+        blocks = sorted(n for n in viewer.handles if n.startswith("/terrain/"))
+        assert len(blocks) == len(boxes) == 2  # two treads: a step and the landing after it
+        for k, box in enumerate(boxes):
+            handle = viewer.handles[f"/terrain/box_{k}"]
+            np.testing.assert_allclose(handle.position, box.center)
     finally:
         viewer.close()
 

@@ -21,6 +21,7 @@ SOURCES = ("pyproject.toml", "README.md", "LICENSE", "mpcwalk", "robots")
 DATA = {
     "robots": ("mpcwalk/robot/data", ("*.xml", "presets/*.toml")),
     "mpcwalk/experiments": ("mpcwalk/experiments", ("*/config.toml", "paper_a/paths/*.mdat")),
+    "mpcwalk/terrain": ("mpcwalk/terrain", ("examples/*.toml",)),
 }
 
 pytestmark = pytest.mark.slow
