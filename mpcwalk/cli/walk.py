@@ -30,8 +30,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
         "(paper A), drive the robot with a pattern generator, the whole-body IK and its "
         "position servos in MuJoCo, and write spec.toml (the walk, to walk it again with "
         "--spec), metrics.json, the per-tick log, a top-view plot and a CoM/CoP-over-time plot "
-        "into --out (and walk.mp4 with --video). Walking defaults (step duration, swing "
-        "height, leg limits) come from the robot's preset.",
+        "into --out (and walk.mp4 with --video). On a terrain (--terrain FILE: stairs, slopes, "
+        "platforms, stepping stones, rough patches) it also writes terrain.toml and a side "
+        "view, side_view.png. Walking defaults (step duration, swing height, leg limits) come "
+        "from the robot's preset.",
     )
     add_walk_options(p)
     p.add_argument("--video", action="store_true", help="render walk.mp4 (offscreen)")
