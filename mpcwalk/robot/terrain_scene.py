@@ -97,11 +97,15 @@ def _compiled(robot: "Robot", terrain: Terrain) -> mujoco.MjModel:
             )
     add_terrain(spec, terrain)
     try:
-        return spec.compile()
+        model = spec.compile()
     except ValueError as error:  # pragma: no cover - boxes always compile
         raise ConfigurationError(
             f"MuJoCo cannot compile {robot.name}'s scene with the terrain ({error})."
         ) from error
+    # the robot's size, not the terrain's: a video's camera frames the robot as on the floor
+    model.stat.extent = robot.mj_model.stat.extent
+    model.stat.center[:] = robot.mj_model.stat.center
+    return model
 
 
 __all__ = ["FLOOR", "TERRAIN", "add_terrain", "box_name", "terrain_model"]
