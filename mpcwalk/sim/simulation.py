@@ -50,10 +50,10 @@ class Simulation:
 
     The simulation owns a copy of ``robot.mj_model`` (changing its time step or its mismatch
     leaves the robot's model alone), or of its scene with the terrain's blocks
-    (:func:`~mpcwalk.robot.terrain_scene.terrain_model`). Each :meth:`step` holds the joint targets during one
-    control period of ``control_period / timestep`` physics steps and applies the external
-    forces active at each physics step; the state it returns carries the ground truth, the
-    sensor readings (delayed by the latency) and the oracle.
+    (:func:`~mpcwalk.robot.terrain_scene.terrain_model`). Each :meth:`step` holds the joint
+    targets during one control period of ``control_period / timestep`` physics steps and
+    applies the external forces active at each physics step; the state it returns carries the
+    ground truth, the sensor readings (delayed by the latency) and the oracle.
 
     Args:
         robot: The robot (from :func:`mpcwalk.robot.load_robot`).

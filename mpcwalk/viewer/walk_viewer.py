@@ -7,8 +7,8 @@ The rest comes from the log and the plan: planned footsteps (outlines), landed s
 (filled, where each foot was measured after landing), the measured CoM, the ZMP reference
 and the measured CoP (per support phase), the support polygon of the planned feet on the
 ground at the slider's time, and the pushes as arrows at the torso. A walk on a terrain
-shows its blocks (:meth:`Terrain.boxes <mpcwalk.terrain.Terrain.boxes>`) as boxes. The GUI holds the time
-slider, a play/pause checkbox and the playback speed.
+shows its blocks (:meth:`Terrain.boxes <mpcwalk.terrain.Terrain.boxes>`) as boxes. The GUI
+holds the time slider, a play/pause checkbox and the playback speed.
 """
 
 import threading
