@@ -121,3 +121,18 @@ def test_a_path_moved_onto_the_robots_feet_keeps_its_tilts():
     assert (moved.roll, moved.pitch) == (FAR_TREAD.roll, FAR_TREAD.pitch)
     assert moved.yaw == pytest.approx(FAR_TREAD.yaw + 0.3)
     assert moved.position[2] == pytest.approx(0.1)
+
+
+def test_a_terrains_height_map_puts_a_clamped_landing_on_its_slope():
+    from mpcwalk.footsteps.footstep import terrain_height_map
+    from mpcwalk.terrain import Slope, Terrain
+
+    terrain = Terrain([Slope(0.1, length=1.0, angle=10.0)])
+    target = FAR_TREAD.moved(yaw=0.3)  # a turned sole: its own roll and pitch on the slope
+    landing = ATLAS_REACHABILITY.clamp_footstep(RIGHT, target, terrain_height_map(terrain))
+    foot = landing.footstep
+    support = terrain.sole_support(foot.xy, foot.yaw, 0.2, 0.1)
+    assert foot.position[2] == pytest.approx(terrain.height(*foot.xy), abs=1e-15)
+    assert (foot.roll, foot.pitch) == pytest.approx((support.roll, support.pitch), abs=1e-12)
+    np.testing.assert_allclose(foot.normal, terrain.normal(*foot.xy), atol=1e-12)
+    assert foot.roll != 0.0 and foot.pitch < 0.0  # toes up the ramp

@@ -9,6 +9,7 @@ from mpcwalk.footsteps.footstep import (
     Side,
     StepTiming,
     rotation_2d,
+    terrain_height_map,
     wrap_angle,
 )
 from mpcwalk.footsteps.leg_limits import LegLimits
@@ -78,6 +79,7 @@ __all__ = [
     "rotation_2d",
     "rpy_matrix",
     "rpy_quaternion",
+    "terrain_height_map",
     "wrap_angle",
     "write_mdat",
     "yaw_to_quaternion",

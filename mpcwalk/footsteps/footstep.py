@@ -19,6 +19,7 @@ from mpcwalk.footsteps.rotations import (
     unit_quaternion,
 )
 from mpcwalk.footsteps.timing import FootGeometry, StepTiming
+from mpcwalk.terrain.surface import sole_tilt
 
 __all__ = [
     "FootGeometry",
@@ -28,6 +29,7 @@ __all__ = [
     "Side",
     "StepTiming",
     "rotation_2d",
+    "terrain_height_map",
     "wrap_angle",
 ]
 
@@ -76,6 +78,18 @@ def rotation_2d(yaw: float) -> np.ndarray:
 #: roll [rad], pitch [rad])``, the ground's normal being ``Ry(pitch) Rx(roll) e_z`` (see
 #: :meth:`Footstep.on_ground`).
 HeightMap = Callable[[float, float], tuple[float, float, float]]
+
+
+def terrain_height_map(terrain) -> HeightMap:
+    """The height map of a terrain: anything with ``height(x, y)`` [m] and ``normal(x, y)``
+    (a unit vector), as :class:`~mpcwalk.terrain.Terrain`; its roll and pitch are the world
+    angles of the normal (those of a sole of yaw 0, :func:`~mpcwalk.terrain.sole_tilt`)."""
+
+    def height_map(x: float, y: float) -> tuple[float, float, float]:
+        roll, pitch = sole_tilt(terrain.normal(x, y), 0.0)
+        return float(terrain.height(x, y)), roll, pitch
+
+    return height_map
 
 
 def _angle(name: str, value, bound: float | None = None) -> float:

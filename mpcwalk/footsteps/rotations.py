@@ -15,6 +15,7 @@ import math
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.terrain.surface import sole_tilt
 
 #: Largest roll or pitch of a footstep, in [rad] (45 deg): steeper is a wall, not a foothold.
 MAX_FOOTSTEP_TILT = math.radians(45.0)
@@ -104,10 +105,9 @@ def tilt_in_heading(roll: float, pitch: float, yaw: float) -> tuple[float, float
     pitch ``(roll, pitch)`` [rad] (the plane's normal is ``Ry(pitch) Rx(roll) e_z``).
 
     A sole of yaw 0 takes the plane's angles; a turned sole the same plane's tilt about its
-    own axes, so that its z axis is the plane's normal."""
+    own axes, so that its z axis is the plane's normal (the terrain's
+    :func:`~mpcwalk.terrain.surface.sole_tilt` of that normal)."""
     if roll == 0.0 and pitch == 0.0:
         return 0.0, 0.0
-    normal = rpy_matrix(roll, pitch, 0.0)[:, 2]
-    c, s = math.cos(yaw), math.sin(yaw)
-    nx, ny, nz = c * normal[0] + s * normal[1], -s * normal[0] + c * normal[1], normal[2]
-    return math.atan2(-ny, math.hypot(nx, nz)) + 0.0, math.atan2(nx, nz) + 0.0
+    foot_roll, foot_pitch = sole_tilt(rpy_matrix(roll, pitch, 0.0)[:, 2], yaw)
+    return foot_roll + 0.0, foot_pitch + 0.0
