@@ -113,14 +113,19 @@ def test_malformed_lines_name_file_line_and_field(line, field, pattern):
     assert str(info.value).startswith("walk.mdat:3")
 
 
-def test_tilted_foot_is_rejected():
+def test_tilted_foot_is_read_and_a_steep_one_refused():
     c, s = math.cos(math.radians(5.0)), math.sin(math.radians(5.0))  # 10 deg about x
-    line = GOOD_LINE.replace(" 1 0 0 0", f" {c!r} {s!r} 0 0", 2)
-    with pytest.raises(FootstepFileError, match=r"tilted by 10\.00 deg .* must be flat") as info:
-        parse_mdat(line)
-    assert info.value.field == "qxlf" and info.value.line == 1
-    small = GOOD_LINE.replace(" 1 0 0 0", f" {math.cos(0.02)!r} 0 {math.sin(0.02)!r} 0", 1)
-    assert len(parse_mdat(small)) == 1  # 2.3 deg of pitch is tolerated
+    line = GOOD_LINE.replace(" 1 0 0 0", f" {c!r} {s!r} 0 0", 1)
+    left, right = parse_mdat(line)[0].left, parse_mdat(line)[0].right
+    assert left.roll == pytest.approx(math.radians(10.0), abs=1e-12) and left.pitch == 0.0
+    assert right.is_flat and right.yaw == 0.0 and not left.is_flat
+    c, s = math.cos(math.radians(25.0)), math.sin(math.radians(25.0))  # 50 deg about y
+    steep = GOOD_LINE.replace(" 1 0 0 0", f" {c!r} 0 {s!r} 0", 1)
+    with pytest.raises(
+        FootstepFileError, match=r"pitch of 50\.00 deg, beyond the \+-45 deg"
+    ) as info:
+        parse_mdat(steep)
+    assert info.value.field == "qylf" and info.value.line == 1
 
 
 def test_empty_and_missing_files(tmp_path):

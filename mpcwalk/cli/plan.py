@@ -15,7 +15,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
         help="plan a walk on the LIPM alone and write plots and metrics.json",
         description="Plan footsteps from a velocity command (paper M eq. 5), run a CoM/ZMP "
         "pattern generator over them on the LIPM, write a top-view plot, a CoM/ZMP-over-time "
-        "plot and metrics.json into --out.",
+        "plot and metrics.json into --out (with --mdat, the footsteps as footsteps.mdat too).",
     )
     p.add_argument(
         "--generator", default="mpc", help="pattern generator (list: mpcwalk generators)"
@@ -56,6 +56,13 @@ def add_parser(sub) -> argparse.ArgumentParser:
         "default: the generator's)",
     )
     p.add_argument("--out", type=out_path, required=True, help="output directory")
+    p.add_argument(
+        "--mdat",
+        action="store_true",
+        help="also write the planned footsteps as footsteps.mdat in --out (paper A's path "
+        "format: one stance per line, both feet's position and quaternion; --path of "
+        "mpcwalk walk reads it back)",
+    )
     p.add_argument("--overwrite", action="store_true", help="replace an earlier plan in --out")
     p.set_defaults(run=run)
     return p
@@ -117,6 +124,15 @@ def run(args) -> int:
     )
     write_atomic(out / "com_zmp.png", lambda tmp: fig2.savefig(tmp, dpi=120))
     write_json(out / "metrics.json", m)
+    written = [out / "top_view.png", out / "com_zmp.png", out / "metrics.json"]
+    if args.mdat:
+        from mpcwalk.footsteps.mdat import write_mdat
+
+        header = f"mpcwalk plan: {title}; step duration {result.schedule.step_duration:g} s"
+        write_atomic(
+            out / "footsteps.mdat", lambda tmp: write_mdat(tmp, result.schedule.plan, header=header)
+        )
+        written.append(out / "footsteps.mdat")
     print(
         f"{m['generator']}: {steps} over {m['duration_s']:.2f} s, "
         f"ZMP margin min {format_length(m['zmp_margin_min_m'])}, "
@@ -129,7 +145,7 @@ def run(args) -> int:
             "generator cannot realise the command at this timing",
             file=sys.stderr,
         )
-    print(f"wrote {out / 'top_view.png'}, {out / 'com_zmp.png'}, {out / 'metrics.json'}")
+    print("wrote " + ", ".join(str(path) for path in written))
     return 0
 
 

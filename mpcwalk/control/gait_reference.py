@@ -15,7 +15,7 @@ from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Side
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.height_profile import height_profile
-from mpcwalk.gait.swing_foot import FeetState, SwingFootTrajectory
+from mpcwalk.gait.swing_foot import FeetState, FootState, SwingFootTrajectory
 from mpcwalk.ik.targets import IKTargets
 
 
@@ -37,15 +37,16 @@ class GaitTargets:
     torso_yaw: float
 
     def ik_targets(self, ground_height: float, com_height: float) -> IKTargets:
-        """IK targets: the CoM ``com_height`` [m] above ``ground_height`` [m], the soles flat,
-        the torso upright at the yaw (valid by construction: built without the checks of
-        ``IKTargets(...)``)."""
+        """IK targets: the CoM ``com_height`` [m] above ``ground_height`` [m], the soles at
+        their full orientation (yaw, and the roll and pitch of a tilted tread; exactly the yaw's
+        rotation when flat), the torso upright at the yaw (valid by construction: built without
+        the checks of ``IKTargets(...)``)."""
         com = np.array([self.com_xy[0], self.com_xy[1], ground_height + com_height])
         left, right = self.feet.left, self.feet.right
         return IKTargets.trusted(
             com,
-            pin.SE3(_yaw_rotation(left.yaw), np.array(left.position, dtype=float)),
-            pin.SE3(_yaw_rotation(right.yaw), np.array(right.position, dtype=float)),
+            pin.SE3(_sole_rotation(left), np.array(left.position, dtype=float)),
+            pin.SE3(_sole_rotation(right), np.array(right.position, dtype=float)),
             _yaw_rotation(self.torso_yaw),
         )
 
@@ -54,6 +55,12 @@ def _yaw_rotation(yaw: float) -> np.ndarray:
     """Rotation matrix of ``yaw`` [rad] about the world z axis."""
     c, s = np.cos(yaw), np.sin(yaw)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def _sole_rotation(foot: FootState) -> np.ndarray:
+    """Rotation matrix of a sole: ``Rz(yaw) Ry(pitch) Rx(roll)``, exactly
+    :func:`_yaw_rotation` when the sole is flat."""
+    return _yaw_rotation(foot.yaw) if foot.is_flat else foot.rotation
 
 
 class GaitReference:

@@ -100,8 +100,9 @@ class HeadingHold:
 
 
 def _turned(step: Footstep, pivot: Footstep, angle: float) -> Footstep:
-    """``step`` turned by ``angle`` [rad] about ``pivot``'s sole centre."""
+    """``step`` turned by ``angle`` [rad] about the vertical through ``pivot``'s sole centre
+    (its height, roll and pitch kept)."""
     c, s = math.cos(angle), math.sin(angle)
     d = step.xy - pivot.xy
     xy = pivot.xy + np.array([c * d[0] - s * d[1], s * d[0] + c * d[1]])
-    return Footstep(step.side, np.array([xy[0], xy[1], step.position[2]]), step.yaw + angle)
+    return step.moved(position=np.array([xy[0], xy[1], step.position[2]]), yaw=step.yaw + angle)

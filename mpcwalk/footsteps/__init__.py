@@ -1,12 +1,15 @@
-"""Footsteps: types, the velocity planner (paper M), path files and reachability (paper A)."""
+"""Footsteps: types (3D poses), the velocity planner (paper M), path files and reachability
+(paper A)."""
 
 from mpcwalk.footsteps.footstep import (
     FootGeometry,
     Footstep,
     FootstepPlan,
+    HeightMap,
     Side,
     StepTiming,
     rotation_2d,
+    terrain_height_map,
     wrap_angle,
 )
 from mpcwalk.footsteps.leg_limits import LegLimits
@@ -31,6 +34,12 @@ from mpcwalk.footsteps.reachability import (
     ReachabilityRectangle,
     opening_side,
 )
+from mpcwalk.footsteps.rotations import (
+    MAX_FOOTSTEP_TILT,
+    quaternion_rpy,
+    rpy_matrix,
+    rpy_quaternion,
+)
 from mpcwalk.footsteps.velocity_planner import (
     VelocityCommand,
     VelocityPlanner,
@@ -40,6 +49,7 @@ from mpcwalk.footsteps.velocity_planner import (
 
 __all__ = [
     "ATLAS_REACHABILITY",
+    "MAX_FOOTSTEP_TILT",
     "MDAT_FIELDS",
     "SMALL_HUMANOID_REACHABILITY",
     "ClampedFootstep",
@@ -47,6 +57,7 @@ __all__ = [
     "FootGeometry",
     "Footstep",
     "FootstepPlan",
+    "HeightMap",
     "LegLimits",
     "PathFollower",
     "PathTarget",
@@ -62,9 +73,13 @@ __all__ = [
     "path_targets",
     "plan_from_path",
     "plan_from_velocity",
+    "quaternion_rpy",
     "quaternion_to_yaw",
     "read_mdat",
     "rotation_2d",
+    "rpy_matrix",
+    "rpy_quaternion",
+    "terrain_height_map",
     "wrap_angle",
     "write_mdat",
     "yaw_to_quaternion",

@@ -1,5 +1,7 @@
 """Footsteps and footstep plans."""
 
+import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from enum import Enum
 from typing import Union
@@ -7,6 +9,29 @@ from typing import Union
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError, InfeasibleStep
+from mpcwalk.footsteps.rotations import (
+    MAX_FOOTSTEP_TILT,
+    matrix_rpy,
+    quaternion_rpy,
+    rpy_matrix,
+    rpy_quaternion,
+    tilt_in_heading,
+    unit_quaternion,
+)
+from mpcwalk.footsteps.timing import FootGeometry, StepTiming
+from mpcwalk.terrain.surface import sole_tilt
+
+__all__ = [
+    "FootGeometry",
+    "Footstep",
+    "FootstepPlan",
+    "HeightMap",
+    "Side",
+    "StepTiming",
+    "rotation_2d",
+    "terrain_height_map",
+    "wrap_angle",
+]
 
 
 class Side(str, Enum):
@@ -49,19 +74,64 @@ def rotation_2d(yaw: float) -> np.ndarray:
     return np.array([[c, -s], [s, c]])
 
 
+#: Height of the ground and its world roll and pitch at a point: ``(x [m], y [m]) -> (z [m],
+#: roll [rad], pitch [rad])``, the ground's normal being ``Ry(pitch) Rx(roll) e_z`` (see
+#: :meth:`Footstep.on_ground`).
+HeightMap = Callable[[float, float], tuple[float, float, float]]
+
+
+def terrain_height_map(terrain) -> HeightMap:
+    """The height map of a terrain: anything with ``height(x, y)`` [m] and ``normal(x, y)``
+    (a unit vector), as :class:`~mpcwalk.terrain.Terrain`; its roll and pitch are the world
+    angles of the normal (those of a sole of yaw 0, :func:`~mpcwalk.terrain.sole_tilt`)."""
+
+    def height_map(x: float, y: float) -> tuple[float, float, float]:
+        roll, pitch = sole_tilt(terrain.normal(x, y), 0.0)
+        return float(terrain.height(x, y)), roll, pitch
+
+    return height_map
+
+
+def _angle(name: str, value, bound: float | None = None) -> float:
+    """``value`` as a float angle [rad], checked finite (and within ``+-bound``)."""
+    try:
+        angle = float(value)
+    except (TypeError, ValueError):
+        angle = math.nan
+    if isinstance(value, (bool, str)) or not math.isfinite(angle):
+        raise ConfigurationError(f"Footstep {name} must be a finite angle [rad], got {value!r}.")
+    if bound is not None and abs(angle) > bound:
+        raise ConfigurationError(
+            f"Footstep {name} must lie within +-{math.degrees(bound):g} deg "
+            f"({bound:.4f} rad), got {angle:.4g} rad ({math.degrees(angle):.2f} deg); a sole "
+            "tilted more is a wall, not a foothold: lower the tilt or step elsewhere."
+        )
+    return angle + 0.0  # no negative zero
+
+
 @dataclass(frozen=True)
 class Footstep:
-    """Pose of a flat foot on the ground.
+    """Pose of a foot sole on the ground, flat or tilted.
+
+    The sole's orientation is ``Rz(yaw) Ry(pitch) Rx(roll)`` (Z-Y-X intrinsic angles, see
+    :mod:`~mpcwalk.footsteps.rotations`); ``yaw`` is the heading of the sole's x axis
+    projected on the horizontal plane, so the planar helpers (:attr:`xy`, :attr:`rotation`,
+    :meth:`to_local`, :meth:`to_world`) work on the horizontal projection of any footstep.
 
     Attributes:
         side: Which foot.
         position: Sole centre in the world frame, shape (3,), in [m].
         yaw: Heading about the world z axis, in [rad].
+        roll: Tilt about the sole's own x axis, in [rad], within +-45 deg (0: flat).
+        pitch: Tilt about the turned y axis (positive: toes down), in [rad], within
+            +-45 deg (0: flat).
     """
 
     side: Side
     position: np.ndarray
     yaw: float = 0.0
+    roll: float = 0.0
+    pitch: float = 0.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "side", Side.parse(self.side))
@@ -77,6 +147,69 @@ class Footstep:
         pos.setflags(write=False)
         object.__setattr__(self, "position", pos)
         object.__setattr__(self, "yaw", float(self.yaw))
+        object.__setattr__(self, "roll", _angle("roll", self.roll, MAX_FOOTSTEP_TILT))
+        object.__setattr__(self, "pitch", _angle("pitch", self.pitch, MAX_FOOTSTEP_TILT))
+
+    @classmethod
+    def from_quaternion(cls, side, position, quaternion) -> "Footstep":
+        """Footstep of a sole at ``position`` [m] turned by ``quaternion`` (w, x, y, z),
+        normalised here (any non-zero norm).
+
+        Raises:
+            ConfigurationError: A zero or non-finite quaternion, or a tilt beyond 45 deg.
+        """
+        roll, pitch, yaw = quaternion_rpy(*unit_quaternion(quaternion))
+        return cls(side, position, yaw, roll, pitch)
+
+    @classmethod
+    def from_pose(cls, side, position, rotation) -> "Footstep":
+        """Footstep of a sole at ``position`` [m] with the rotation matrix ``rotation``
+        (3, 3), orthonormal to 1e-6.
+
+        Raises:
+            ConfigurationError: Not a rotation matrix, or a tilt beyond 45 deg.
+        """
+        R = np.asarray(rotation, dtype=float)
+        if (
+            R.shape != (3, 3)
+            or not np.all(np.isfinite(R))
+            or not np.allclose(R.T @ R, np.eye(3), atol=1e-6)
+            or np.linalg.det(R) < 0.0
+        ):
+            raise ConfigurationError(
+                f"Footstep rotation must be a 3x3 rotation matrix (orthonormal, det +1), got "
+                f"{rotation!r}; build one with Footstep(side, position, yaw, roll, pitch)."
+            )
+        roll, pitch, yaw = matrix_rpy(R)
+        return cls(side, position, yaw, roll, pitch)
+
+    @property
+    def is_flat(self) -> bool:
+        """True when the sole is level (roll and pitch exactly 0)."""
+        return self.roll == 0.0 and self.pitch == 0.0
+
+    @property
+    def rotation_matrix(self) -> np.ndarray:
+        """Orientation of the sole in the world, ``Rz(yaw) Ry(pitch) Rx(roll)``, shape (3, 3)."""
+        return rpy_matrix(self.roll, self.pitch, self.yaw)
+
+    @property
+    def quaternion(self) -> np.ndarray:
+        """Orientation of the sole as a unit quaternion ``(w, x, y, z)``, shape (4,)."""
+        return np.array(rpy_quaternion(self.roll, self.pitch, self.yaw))
+
+    @property
+    def normal(self) -> np.ndarray:
+        """The sole's z axis in the world (unit), shape (3,): ``(0, 0, 1)`` when flat."""
+        return self.rotation_matrix[:, 2].copy()
+
+    @property
+    def transform(self) -> np.ndarray:
+        """Homogeneous transform of the sole in the world, shape (4, 4)."""
+        out = np.eye(4)
+        out[:3, :3] = self.rotation_matrix
+        out[:3, 3] = self.position
+        return out
 
     @property
     def xy(self) -> np.ndarray:
@@ -85,7 +218,7 @@ class Footstep:
 
     @property
     def rotation(self) -> np.ndarray:
-        """Planar rotation of the foot frame, shape (2, 2)."""
+        """Planar rotation of the foot frame (the heading), shape (2, 2)."""
         return rotation_2d(self.yaw)
 
     def to_local(self, point: np.ndarray) -> np.ndarray:
@@ -96,83 +229,32 @@ class Footstep:
         """Express a point (2,) of this foot's planar frame in the world, in [m]."""
         return self.xy + self.rotation @ np.asarray(point, dtype=float)[:2]
 
-    def moved(self, position=None, yaw=None) -> "Footstep":
-        """Copy with a new position and/or yaw."""
+    def moved(self, position=None, yaw=None, roll=None, pitch=None) -> "Footstep":
+        """Copy with a new position, yaw, roll and/or pitch (the others kept)."""
         return Footstep(
             self.side,
             self.position if position is None else position,
             self.yaw if yaw is None else yaw,
+            self.roll if roll is None else roll,
+            self.pitch if pitch is None else pitch,
         )
 
+    def on_ground(self, z: float, roll: float, pitch: float) -> "Footstep":
+        """This footstep put on a ground plane: at the height ``z`` [m], its heading kept,
+        tilted so that its sole lies on a plane of world roll and pitch [rad] (the plane's
+        normal is ``Ry(pitch) Rx(roll) e_z``; a sole of yaw 0 takes these angles)."""
+        foot_roll, foot_pitch = tilt_in_heading(float(roll), float(pitch), self.yaw)
+        return self.moved(
+            position=(self.position[0], self.position[1], z), roll=foot_roll, pitch=foot_pitch
+        )
 
-@dataclass(frozen=True)
-class StepTiming:
-    """Timing of a walk (paper M sec. 3: each step starts and ends in double support).
-
-    Attributes:
-        step_duration: Duration ``T`` of one step (one foot moves), in [s].
-        double_support_ratio: ``r_ds = T_ds / T`` in [0, 1); half of the double
-            support opens the step, half closes it.
-        initial_duration: Standing double support before the first step, in [s].
-        final_duration: Double support after the last step, in [s].
-    """
-
-    step_duration: float = 0.5  # [s] (paper M, Table 1)
-    double_support_ratio: float = 0.2  # [] (paper M, Table 1)
-    initial_duration: float = 1.0  # [s]
-    final_duration: float = 1.0  # [s]
-
-    def __post_init__(self) -> None:
-        T = self.step_duration
-        if isinstance(T, (bool, str)) or not np.isfinite(T) or T <= 0.0 or T > 60.0:
-            raise ConfigurationError(
-                f"step_duration must be a number of seconds in (0, 60], got {T!r}; "
-                "paper M uses 0.5 s, paper A 12 s."
-            )
-        r = self.double_support_ratio
-        if not np.isfinite(r) or not 0.0 <= r < 1.0:
-            raise ConfigurationError(
-                f"double_support_ratio must lie in [0, 1), got {r!r}; it is the "
-                "fraction of each step spent with both feet down (paper M: 0.2)."
-            )
-        for name in ("initial_duration", "final_duration"):
-            value = getattr(self, name)
-            if not np.isfinite(value) or value < 0.0:
-                raise ConfigurationError(
-                    f"{name} must be a non-negative number of seconds, got {value!r}."
-                )
-
-    @property
-    def single_support_begin(self) -> float:
-        """``t_b = r_ds T / 2``: time in the step when single support begins, in [s]."""
-        return 0.5 * self.double_support_ratio * self.step_duration
-
-    @property
-    def single_support_end(self) -> float:
-        """``t_e = T - r_ds T / 2``: time in the step when single support ends, in [s]."""
-        return self.step_duration - self.single_support_begin
-
-
-@dataclass(frozen=True)
-class FootGeometry:
-    """Flat rectangular sole.
-
-    Attributes:
-        length: Along the foot x axis, in [m].
-        width: Along the foot y axis, in [m].
-    """
-
-    length: float = 0.10  # [m] small servo humanoid
-    width: float = 0.06  # [m]
-
-    def __post_init__(self) -> None:
-        if (
-            not (np.isfinite(self.length) and np.isfinite(self.width))
-            or min(self.length, self.width) <= 0.0
-        ):
-            raise ConfigurationError(
-                f"Foot length and width must be positive, got {self.length!r} x {self.width!r} m."
-            )
+    def on_height_map(self, height_map: HeightMap | None) -> "Footstep":
+        """This footstep put on the ground of ``height_map`` at its (x, y) (see
+        :meth:`on_ground`); itself, its height and tilt kept, when ``height_map`` is None."""
+        if height_map is None:
+            return self
+        z, roll, pitch = height_map(float(self.position[0]), float(self.position[1]))
+        return self.on_ground(z, roll, pitch)
 
 
 @dataclass(frozen=True)

@@ -1,4 +1,4 @@
-"""Footstep path files of paper A (``.mdat``) and plans built from them.
+"""Footstep path files of paper A (``.mdat``).
 
 One line per waypoint (a stance of both feet) in the global map frame,
 14 numbers separated by spaces or commas::
@@ -7,28 +7,45 @@ One line per waypoint (a stance of both feet) in the global map frame,
 
 the left foot's sole-centre position [m] and orientation quaternion
 ``(w, x, y, z)``, then the right foot's. Blank lines and ``#`` comments are
-allowed. Feet are flat: a quaternion may only turn about the vertical.
+allowed. A quaternion is normalised (its norm must be 1 to
+:data:`QUATERNION_NORM_TOLERANCE`) and read as the footstep's yaw, roll and pitch
+(``Rz(yaw) Ry(pitch) Rx(roll)``, see :mod:`~mpcwalk.footsteps.rotations`): a foot may
+stand on a tilted tread, up to 45 deg of roll and of pitch; the height ``z`` is the
+footstep's. A flat quaternion (``x = y = 0``) gives a flat footstep, exactly as the
+yaw alone. :func:`write_mdat` writes all 14 numbers back (exact round trip).
+
+The steps and the plan that walk a path are in :mod:`~mpcwalk.footsteps.path_plan`
+(re-exported here).
 """
 
 import math
 import os
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import NamedTuple
 
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError, FootstepFileError
-from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side, StepTiming, wrap_angle
-from mpcwalk.footsteps.path_follower import PathFollower
-from mpcwalk.footsteps.reachability import (
-    ATLAS_REACHABILITY,
-    CLAMP_TOLERANCE,
-    ReachabilityRectangle,
-    opening_side,
-)
+from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side
+from mpcwalk.footsteps.path_plan import PathTarget, PathWaypoint, path_targets, plan_from_path
+from mpcwalk.footsteps.rotations import MAX_FOOTSTEP_TILT, quaternion_rpy
+
+__all__ = [
+    "MAX_FOOT_TILT",
+    "MAX_MDAT_BYTES",
+    "MDAT_FIELDS",
+    "QUATERNION_NORM_TOLERANCE",
+    "PathTarget",
+    "PathWaypoint",
+    "parse_mdat",
+    "path_targets",
+    "plan_from_path",
+    "quaternion_to_yaw",
+    "read_mdat",
+    "write_mdat",
+    "yaw_to_quaternion",
+]
 
 #: Field order of one line.
 MDAT_FIELDS = (
@@ -49,45 +66,8 @@ MDAT_FIELDS = (
 )
 #: Allowed deviation of a quaternion's norm from 1.
 QUATERNION_NORM_TOLERANCE = 1e-3
-#: Largest roll/pitch tilt of a foot, in [rad] (5 deg).
-MAX_FOOT_TILT = math.radians(5.0)
-
-
-@dataclass(frozen=True)
-class PathWaypoint:
-    """Both feet of one line of a path file.
-
-    Attributes:
-        left: Left foot pose, world frame.
-        right: Right foot pose, world frame.
-        line: One-based line number in its file, if read from one.
-    """
-
-    left: Footstep
-    right: Footstep
-    line: int | None = field(default=None, compare=False)
-
-    def __post_init__(self) -> None:
-        if self.left.side is not Side.LEFT or self.right.side is not Side.RIGHT:
-            raise ConfigurationError("PathWaypoint needs a left Footstep then a right Footstep.")
-
-    def foot(self, side) -> Footstep:
-        """Pose of one foot."""
-        return self.left if Side.parse(side) is Side.LEFT else self.right
-
-
-class PathTarget(NamedTuple):
-    """One single-foot step of a path, before any clamping.
-
-    Attributes:
-        footstep: Global landing.
-        waypoint_index: Index of the waypoint it reaches.
-        label: Where it comes from, for messages (``"waypoint 3 (line 5)"``).
-    """
-
-    footstep: Footstep
-    waypoint_index: int
-    label: str
+#: Largest roll and largest pitch of a foot, in [rad] (45 deg, as any footstep).
+MAX_FOOT_TILT = MAX_FOOTSTEP_TILT
 
 
 def quaternion_to_yaw(w: float, x: float, y: float, z: float) -> float:
@@ -113,18 +93,18 @@ def _foot(values, offset: int, side: Side, source: str, line: int) -> Footstep:
             line=line,
             field=names[0],
         )
-    w, x, y, z = q / norm
-    tilt = math.acos(min(1.0, max(-1.0, 1.0 - 2.0 * (x * x + y * y))))
-    if tilt > MAX_FOOT_TILT:
-        raise FootstepFileError(
-            f"the {side.value} foot is tilted by {math.degrees(tilt):.2f} deg (roll/pitch), but feet "
-            f"must be flat (tilt <= {math.degrees(MAX_FOOT_TILT):g} deg); keep only the yaw part "
-            "(x = y = 0).",
-            path=source,
-            line=line,
-            field=names[1] if abs(x) >= abs(y) else names[2],
-        )
-    return Footstep(side, values[offset : offset + 3], quaternion_to_yaw(w, x, y, z))
+    roll, pitch, yaw = quaternion_rpy(*(q / norm))
+    for name, angle, field in (("roll", roll, names[1]), ("pitch", pitch, names[2])):
+        if abs(angle) > MAX_FOOT_TILT:
+            raise FootstepFileError(
+                f"the {side.value} foot has a {name} of {math.degrees(angle):.2f} deg, beyond the "
+                f"+-{math.degrees(MAX_FOOT_TILT):g} deg a foothold may have; check the quaternion "
+                "(w, x, y, z order, scalar first) or step on a less steep tread.",
+                path=source,
+                line=line,
+                field=field,
+            )
+    return Footstep(side, values[offset : offset + 3], yaw, roll, pitch)
 
 
 def parse_mdat(text: str, *, source: str = "<string>") -> list[PathWaypoint]:
@@ -234,122 +214,50 @@ def read_mdat(path_or_text: str | os.PathLike) -> list[PathWaypoint]:
     return parse_mdat(text, source=str(path_or_text))
 
 
+def _stances(source) -> list[PathWaypoint]:
+    """Waypoints of a plan (its stances), of stances (dicts side -> Footstep) or waypoints."""
+    if isinstance(source, FootstepPlan):
+        source = source.stances()
+    if isinstance(source, (str, bytes)) or not isinstance(source, Sequence):
+        raise ConfigurationError(
+            f"write_mdat takes a FootstepPlan, stances (dicts side -> Footstep) or "
+            f"PathWaypoints, got {type(source).__name__}."
+        )
+    waypoints = []
+    for item in source:
+        if isinstance(item, dict):
+            item = PathWaypoint(item[Side.LEFT], item[Side.RIGHT])
+        if not isinstance(item, PathWaypoint):
+            raise ConfigurationError(
+                f"write_mdat writes stances (dicts side -> Footstep) or PathWaypoints, got "
+                f"a {type(item).__name__}; pass plan.stances() for a plan."
+            )
+        waypoints.append(item)
+    return waypoints
+
+
 def write_mdat(
-    path: str | os.PathLike, waypoints: Sequence[PathWaypoint], *, header: str = ""
+    path: str | os.PathLike,
+    waypoints: "Sequence[PathWaypoint] | Sequence[dict[Side, Footstep]] | FootstepPlan",
+    *,
+    header: str = "",
 ) -> None:
-    """Write waypoints as a path file (exact round trip through :func:`read_mdat`).
+    """Write stances as a path file, all 14 numbers of each (exact round trip through
+    :func:`read_mdat`: positions to the last bit, angles to 1e-15 rad).
 
     Args:
         path: Output file.
-        waypoints: Stances to write, one per line.
+        waypoints: Stances to write, one per line: PathWaypoints, dicts side -> Footstep
+            (``plan.stances()``), or a FootstepPlan (its stances: the initial one and one
+            after each step, which :func:`~mpcwalk.footsteps.path_plan.plan_from_path`
+            walks again).
         header: Text written first as ``#`` comment lines.
     """
     lines = [f"# {row}".rstrip() for row in header.splitlines()]
     lines.append("# " + " ".join(MDAT_FIELDS))
-    for waypoint in waypoints:
-        values = []
+    for waypoint in _stances(waypoints):
+        values: list[float] = []
         for foot in (waypoint.left, waypoint.right):
-            values += [*foot.position, *yaw_to_quaternion(foot.yaw)]
+            values += [*foot.position, *foot.quaternion]
         lines.append(" ".join(repr(float(v)) for v in values))
     Path(path).write_text("\n".join(lines) + "\n")
-
-
-def _changed(a: Footstep, b: Footstep) -> bool:
-    return bool(
-        np.max(np.abs(a.position - b.position)) > CLAMP_TOLERANCE
-        or abs(float(wrap_angle(a.yaw - b.yaw))) > CLAMP_TOLERANCE
-    )
-
-
-def _mid_frame(waypoint: PathWaypoint) -> Footstep:
-    """Frame between the feet: midpoint position, mean yaw."""
-    left, right = waypoint.left, waypoint.right
-    yaw = right.yaw + 0.5 * float(wrap_angle(left.yaw - right.yaw))
-    return Footstep(Side.LEFT, 0.5 * (left.position + right.position), yaw)
-
-
-def path_targets(
-    waypoints: Sequence[PathWaypoint], *, first_swing=None, steps_in_place: bool = False
-) -> list[PathTarget]:
-    """Alternating single-foot steps that walk through the waypoints.
-
-    From waypoint ``i`` to ``i + 1`` the foot whose pose changed steps; if
-    both changed, both step, the first being the foot that keeps the sides
-    alternating (for the very first step: ``first_swing``, else the foot on
-    the side of the motion, else the right one). An unchanged waypoint is
-    skipped, or with ``steps_in_place`` becomes a step in place of the next
-    foot in turn (paper A starts with two). When the same foot would move
-    twice in a row, or ``first_swing`` is not the first foot to move, a step
-    in place of the other foot is inserted.
-    """
-    if not waypoints:
-        raise ConfigurationError("A path needs at least one waypoint (the initial stance).")
-    moves = []  # (sides that move, waypoint index); () = step in place
-    for i in range(1, len(waypoints)):
-        prev, cur = waypoints[i - 1], waypoints[i]
-        sides = tuple(s for s in (Side.LEFT, Side.RIGHT) if _changed(prev.foot(s), cur.foot(s)))
-        if sides or steps_in_place:
-            moves.append((sides, i))
-    first = next((m for m in moves if m[0]), None)
-    if first_swing is not None:
-        last = Side.parse(first_swing).other
-    elif first is None:
-        last = Side.LEFT  # only steps in place: start with the right foot
-    else:
-        before, after = waypoints[first[1] - 1], waypoints[first[1]]
-        frame = _mid_frame(before)
-        one = (
-            first[0][0]
-            if len(first[0]) == 1
-            else opening_side(
-                frame.to_local(_mid_frame(after).xy)[1],
-                float(wrap_angle(_mid_frame(after).yaw - frame.yaw)),
-            )
-        )
-        in_place_before = moves.index(first)
-        last = one.other if in_place_before % 2 == 0 else one
-    targets: list[PathTarget] = []
-    feet = {Side.LEFT: waypoints[0].left, Side.RIGHT: waypoints[0].right}
-    for sides, i in moves:
-        line = waypoints[i].line
-        label = f"waypoint {i}" + (f" (line {line})" if line is not None else "")
-        order = [last.other] if not sides else sorted(sides, key=lambda s: s is last)
-        if len(sides) == 1 and sides[0] is last:
-            order = [last.other, last]  # keep alternation with a step in place
-        for side in order:
-            pose = waypoints[i].foot(side) if side in sides else feet[side]
-            targets.append(PathTarget(pose, i, label))
-            feet[side] = pose
-            last = side
-    return targets
-
-
-def plan_from_path(
-    waypoints: Sequence[PathWaypoint],
-    *,
-    rectangle: ReachabilityRectangle = ATLAS_REACHABILITY,
-    timing: StepTiming = StepTiming(),
-    first_swing=None,
-    steps_in_place: bool = False,
-    max_extra_steps: int = 10,
-) -> FootstepPlan:
-    """Footstep plan of a path, walked with paper A's clamping rule in open loop.
-
-    The first waypoint is the initial stance. Targets come from
-    :func:`path_targets`; each is clamped into ``rectangle`` around the
-    planned support foot and extra steps are inserted until it is reached
-    (see :class:`~.path_follower.PathFollower`).
-
-    Raises:
-        InfeasibleStep: A target stays out of reach after ``max_extra_steps``.
-    """
-    targets = path_targets(waypoints, first_swing=first_swing, steps_in_place=steps_in_place)
-    follower = PathFollower(
-        waypoints[0].left,
-        waypoints[0].right,
-        [t.footstep for t in targets],
-        rectangle,
-        labels=[t.label for t in targets],
-        max_extra_steps=max_extra_steps,
-    )
-    return follower.plan(timing)

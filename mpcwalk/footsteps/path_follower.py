@@ -5,6 +5,10 @@ Before each step it takes the swing foot's target into the frame of the
 actual support foot, moves it into the reachability rectangle if needed and
 corrects the difference in the following steps, comparing the actual global
 pose with the file so that the drift does not accumulate.
+
+The re-aiming moves a landing horizontally (x, y, yaw): its height, roll and pitch are
+the file's (a foot on a tilted tread stays tilted), or the ground's where it lands when a
+height map is given.
 """
 
 from collections.abc import Sequence
@@ -12,7 +16,14 @@ from collections.abc import Sequence
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError, InfeasibleStep
-from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side, StepTiming, wrap_angle
+from mpcwalk.footsteps.footstep import (
+    Footstep,
+    FootstepPlan,
+    HeightMap,
+    Side,
+    StepTiming,
+    wrap_angle,
+)
 from mpcwalk.footsteps.reachability import (
     ATLAS_REACHABILITY,
     CLAMP_TOLERANCE,
@@ -22,9 +33,12 @@ from mpcwalk.footsteps.reachability import (
 
 
 def _same_pose(a: Footstep, b: Footstep) -> bool:
+    """True when the poses agree: position (height too), yaw, roll and pitch."""
     return bool(
         np.max(np.abs(a.position - b.position)) <= CLAMP_TOLERANCE
         and abs(float(wrap_angle(a.yaw - b.yaw))) <= CLAMP_TOLERANCE
+        and abs(a.roll - b.roll) <= CLAMP_TOLERANCE
+        and abs(a.pitch - b.pitch) <= CLAMP_TOLERANCE
     )
 
 
@@ -54,6 +68,9 @@ class PathFollower:
         rectangle: Safe landings around the support foot.
         labels: Names of the targets for error messages (e.g. ``"line 7"``).
         max_extra_steps: Extra steps allowed per target before giving up.
+        height_map: Ground at a point, ``(x, y) -> (z [m], roll [rad], pitch [rad])`` (world
+            roll and pitch of the ground), where a clamped landing takes its height and tilt;
+            None (default): a clamped landing keeps its target's height, roll and pitch.
     """
 
     def __init__(
@@ -65,6 +82,7 @@ class PathFollower:
         *,
         labels: Sequence[str] | None = None,
         max_extra_steps: int = 10,
+        height_map: HeightMap | None = None,
     ) -> None:
         if initial_left.side is not Side.LEFT or initial_right.side is not Side.RIGHT:
             raise ConfigurationError(
@@ -88,6 +106,7 @@ class PathFollower:
             )
         self.rectangle = rectangle
         self.max_extra_steps = int(max_extra_steps)
+        self.height_map = height_map
         self.initial = {Side.LEFT: initial_left, Side.RIGHT: initial_right}
         poses = dict(self.initial)
         self._file_before = []  # file pose of each foot before target j
@@ -152,7 +171,7 @@ class PathFollower:
         else:  # extra step: this foot re-aims at its own file pose
             goal = self._file_before[self._next][side] if pending else self._file_final[side]
         label = self.labels[self._next] if pending else "final stance"
-        result = self.rectangle.clamp_footstep(actual_support, goal)
+        result = self.rectangle.clamp_footstep(actual_support, goal, self.height_map)
         self.nb_clamped_steps += int(result.local.was_clamped)
         if regular and not result.local.was_clamped:
             self._next += 1

@@ -7,6 +7,10 @@ workspace plus stability). A target outside it is moved to the nearest safe
 point and the difference is made up later; because every step re-aims at the
 file's global target from the *actual* support pose, errors never accumulate.
 
+The rectangle bounds the horizontal pose ``(x, y, yaw)`` of the landing in the support
+foot's horizontal frame (its heading): footsteps on tilted treads keep their height, roll
+and pitch when moved into it, or take them from a height map when one is given.
+
 Conventions (one rectangle serves both feet):
     The rectangle is written for a LEFT swing foot over a RIGHT support foot:
     ``y`` is the lateral distance to the left (outward, positive) and ``yaw``
@@ -21,7 +25,7 @@ from typing import NamedTuple
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.footsteps.footstep import Footstep, Side, wrap_angle
+from mpcwalk.footsteps.footstep import Footstep, HeightMap, Side, wrap_angle
 
 #: Below this a remainder counts as zero ([m] and [rad]).
 CLAMP_TOLERANCE = 1e-9
@@ -158,31 +162,39 @@ class ReachabilityRectangle:
         """True when the target (support-foot frame) is a safe landing."""
         return not (np.max(np.abs(self.clamp(target_local_xy, yaw, side).remainder)) > tolerance)
 
-    def clamp_footstep(self, support: Footstep, target: Footstep) -> ClampedFootstep:
+    def clamp_footstep(
+        self, support: Footstep, target: Footstep, height_map: HeightMap | None = None
+    ) -> ClampedFootstep:
         """Clamp a world target into this rectangle around ``support``.
 
+        The rectangle bounds the horizontal pose (x, y, yaw); a clamped landing keeps the
+        target's height, roll and pitch, never flattened, unless ``height_map`` gives the
+        ground where it lands (:meth:`~mpcwalk.footsteps.footstep.Footstep.on_height_map`).
+
         Args:
-            support: Actual (or planned) support foot.
+            support: Actual (or planned) support foot; its horizontal pose alone counts.
             target: Desired landing of the other foot, world frame.
+            height_map: Ground at a point, ``(x, y) -> (z, roll, pitch)`` (world roll and
+                pitch of the ground), for the landings moved by the clamping; None keeps
+                the target's. A target inside the rectangle is returned as it is.
 
         Returns:
-            The safe landing in the world (height kept from ``target``) and
-            the local clamping details.
+            The safe landing in the world and the local clamping details.
         """
         if target.side is support.side:
             raise ConfigurationError(
                 f"The swing foot and the support foot must differ, both are {target.side.value}."
             )
         local = self.clamp(support.to_local(target.xy), target.yaw - support.yaw, target.side)
-        xy = support.to_world(local.xy)
-        landing = Footstep(
-            target.side,
-            np.array([xy[0], xy[1], target.position[2]]),
-            float(wrap_angle(support.yaw + local.yaw)),
-        )
         if not local.was_clamped:
-            landing = target  # keep the exact target (no round-off from the frame changes)
-        return ClampedFootstep(landing, local)
+            # keep the exact target (no round-off from the frame changes)
+            return ClampedFootstep(target, local)
+        xy = support.to_world(local.xy)
+        landing = target.moved(
+            position=np.array([xy[0], xy[1], target.position[2]]),
+            yaw=float(wrap_angle(support.yaw + local.yaw)),
+        )
+        return ClampedFootstep(landing.on_height_map(height_map), local)
 
     def describe(self) -> str:
         """Human-readable bounds, for error messages."""

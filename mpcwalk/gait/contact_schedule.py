@@ -15,7 +15,7 @@ from typing import Optional
 import numpy as np
 
 from mpcwalk.footsteps.footstep import FootGeometry, Footstep, FootstepPlan, Side
-from mpcwalk.models.support_polygon import SupportPolygon, foot_rectangle
+from mpcwalk.models.support_polygon import SupportPolygon, foot_rectangle, sole_footprint
 
 #: Half-plane rows reserved per sample: a double-support hull of two
 #: rectangles has at most 8 edges.
@@ -152,7 +152,23 @@ class ContactSchedule:
 
     @staticmethod
     def _pose_key(foot: Footstep) -> tuple:
-        return (float(foot.position[0]), float(foot.position[1]), float(foot.yaw))
+        """What a foot's polygon depends on: (x, y, yaw), and the roll and pitch of a tilted
+        foot (its polygon is the sole's horizontal projection; the height does not count)."""
+        key = (float(foot.position[0]), float(foot.position[1]), float(foot.yaw))
+        return key if foot.is_flat else (*key, foot.roll, foot.pitch)
+
+    @staticmethod
+    def _shape_key(foot: Footstep) -> tuple:
+        """What a foot's polygon at the origin depends on: its yaw, roll and pitch."""
+        yaw = float(foot.yaw)
+        return (yaw,) if foot.is_flat else (yaw, foot.roll, foot.pitch)
+
+    def _footprint(self, offset, foot: Footstep) -> SupportPolygon:
+        """The sole of ``foot`` centred at ``offset`` (x, y) [m], projected on the ground."""
+        length, width = self.foot.length, self.foot.width
+        if foot.is_flat:
+            return foot_rectangle(offset, float(foot.yaw), length, width)
+        return sole_footprint(offset, foot.rotation_matrix, length, width)
 
     def _polygon(self, key: tuple, build) -> SupportPolygon:
         poly = self._polygons.get(key)
@@ -171,31 +187,28 @@ class ContactSchedule:
         return padded
 
     def _rect(self, foot: Footstep) -> SupportPolygon:
-        yaw = float(foot.yaw)
         return self._polygon(
             self._pose_key(foot),
             lambda: self._translated(
-                (yaw,),
-                foot.xy,
-                lambda: foot_rectangle((0.0, 0.0), yaw, self.foot.length, self.foot.width),
+                self._shape_key(foot), foot.xy, lambda: self._footprint((0.0, 0.0), foot)
             ),
         )
 
     def _hull(self, feet: dict[Side, Footstep]) -> SupportPolygon:
-        """Support polygon of both feet: the hull of their rectangles, built at the origin
-        once per shape (the yaws and the offset between the feet, to 1e-12 m)."""
+        """Support polygon of both feet: the hull of their footprints, built at the origin
+        once per shape (the angles of the feet and the offset between them, to 1e-12 m)."""
         first, second = feet.values()
-        yaws = (float(first.yaw), float(second.yaw))
         offset = second.xy - first.xy
-        shape = (*yaws, round(float(offset[0]), 12), round(float(offset[1]), 12))
+        shape = (
+            self._shape_key(first),
+            self._shape_key(second),
+            round(float(offset[0]), 12),
+            round(float(offset[1]), 12),
+        )
 
         def local() -> SupportPolygon:
-            length, width = self.foot.length, self.foot.width
             return SupportPolygon.union_hull(
-                (
-                    foot_rectangle((0.0, 0.0), yaws[0], length, width),
-                    foot_rectangle(offset, yaws[1], length, width),
-                )
+                (self._footprint((0.0, 0.0), first), self._footprint(offset, second))
             )
 
         return self._translated(shape, first.xy, local)

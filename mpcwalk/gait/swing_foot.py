@@ -5,6 +5,8 @@ before the step) to its landing pose ``plan.steps[k]``:
 
 - its horizontal pose ``(x, y, yaw)`` follows ``(1 - h) p[k] + h p[k+1]``
   (eq. 21), with ``h`` of :func:`~mpcwalk.gait.interpolation.step_interpolation`;
+  its roll and pitch (a footstep on a tilted tread) follow the same law, from the
+  lift-off's to the landing's;
 - its height is the ground height, interpolated with ``h`` between the two
   footsteps, plus ``z_step * v`` (eq. 22-23) with ``v`` of
   :func:`~mpcwalk.gait.interpolation.swing_height_profile`.
@@ -16,7 +18,6 @@ derivatives of these expressions.
 """
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -24,74 +25,22 @@ from mpcwalk._checks import as_float, frozen_array
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Footstep, Side, wrap_angle
 from mpcwalk.gait.contact_schedule import ContactSchedule, Phase
+from mpcwalk.gait.foot_state import FeetState, FootState
 from mpcwalk.gait.interpolation import step_interpolation_scalar, swing_height_scalar
 
-
-@dataclass(frozen=True)
-class FootState:
-    """Pose and velocity of one foot (sole centre, world frame).
-
-    Attributes:
-        position: Sole centre, shape (3,), in [m].
-        yaw: Heading about the world z axis, in [rad]. It equals the
-            footstep's yaw while the foot is on the ground and is continuous
-            during a swing (not wrapped).
-        linear_velocity: Time derivative of ``position``, shape (3,), in [m/s].
-        yaw_rate: Time derivative of ``yaw``, in [rad/s].
-        in_contact: True when the foot is on the ground.
-    """
-
-    position: np.ndarray
-    yaw: float
-    linear_velocity: np.ndarray
-    yaw_rate: float
-    in_contact: bool
-
-    @property
-    def transform(self) -> np.ndarray:
-        """Homogeneous transform of the (flat) foot in the world, shape (4, 4)."""
-        c, s = np.cos(self.yaw), np.sin(self.yaw)
-        out = np.eye(4)
-        out[:2, :2] = [[c, -s], [s, c]]
-        out[:3, 3] = self.position
-        return out
-
-
-@dataclass(frozen=True)
-class FeetState:
-    """State of both feet at one time.
-
-    Attributes:
-        time: Time of the query, in [s].
-        step_index: Step active at ``time``: -1 before the walk, ``nb_steps``
-            after it.
-        left: Left foot.
-        right: Right foot.
-    """
-
-    time: float
-    step_index: int
-    left: FootState
-    right: FootState
-
-    def __getitem__(self, side: Side | str) -> FootState:
-        """State of the foot ``side`` (a :class:`Side` or ``"left"``/``"right"``)."""
-        return self.left if Side.parse(side) is Side.LEFT else self.right
-
-    @property
-    def contact_sides(self) -> tuple[Side, ...]:
-        """Feet on the ground (one in single support, two otherwise)."""
-        return tuple(side for side in Side if self[side].in_contact)
-
-    @property
-    def swing_side(self) -> Side | None:
-        """The foot in the air, or None in double support."""
-        airborne = [side for side in Side if not self[side].in_contact]
-        return airborne[0] if airborne else None
+__all__ = ["SWING_PROFILES", "FeetState", "FootState", "SwingFootTrajectory"]
 
 
 def _static_state(foot: Footstep) -> FootState:
-    return FootState(frozen_array(foot.position), foot.yaw, frozen_array(np.zeros(3)), 0.0, True)
+    return FootState(
+        frozen_array(foot.position),
+        foot.yaw,
+        frozen_array(np.zeros(3)),
+        0.0,
+        True,
+        foot.roll,
+        foot.pitch,
+    )
 
 
 #: Swing-foot profiles: paper M's cosines, paper A's Cartesian quintic lift and lower.
@@ -143,14 +92,16 @@ class SwingFootTrajectory:
         self.phi_b = schedule.t_b / schedule.step_duration
         self.phi_e = schedule.t_e / schedule.step_duration
         self.torso_yaws = self._torso_waypoint_yaws()
-        # step index -> (h, horizontal position (2,), yaw, height offset) the swing restarts
-        self._restarts: dict[int, tuple[float, np.ndarray, float, float]] = {}
+        # step index -> (h, horizontal position (2,), yaw, height offset, roll, pitch) the
+        # swing restarts from
+        self._restarts: dict[int, tuple[float, np.ndarray, float, float, float, float]] = {}
         self._static_states: dict[int, tuple[Footstep, FootState]] = {}
 
     def restart_swing(self, t: float, foot: FootState) -> None:
         """Continue the swing in progress at ``t`` from ``foot`` (its pose then) towards
         this schedule's landing: the landing moved during the swing (footstep-adaptive
-        generator), and the horizontal position and yaw must not jump. From ``t`` on, they
+        generator), and the horizontal position and the angles must not jump. From ``t`` on,
+        they
         cover what is left of the way with the rest of the interpolant h, rescaled
         ``(h - h(t)) / (1 - h(t))``; the height follows the profile, offset by the foot's
         height above it at ``t`` fading out by touch-down (none when only the landing
@@ -168,7 +119,14 @@ class SwingFootTrajectory:
         lift = self.schedule.stance(t)[landing.side]
         profile = self._swing_state(t, lift, landing, h, 0.0).position[2]
         height = float(foot.position[2]) - float(profile)
-        self._restarts[k] = (h, np.array(foot.position[:2], dtype=float), float(foot.yaw), height)
+        self._restarts[k] = (
+            h,
+            np.array(foot.position[:2], dtype=float),
+            float(foot.yaw),
+            height,
+            float(foot.roll),
+            float(foot.pitch),
+        )
 
     def _torso_waypoint_yaws(self) -> np.ndarray:
         """Torso yaw ``psi[k]`` at the start of each step (and after the last),
@@ -275,9 +233,12 @@ class SwingFootTrajectory:
         origin: np.ndarray,
         yaw0: float,
         height: float = 0.0,
+        roll0: float = 0.0,
+        pitch0: float = 0.0,
     ) -> FootState:
-        """``state`` with its horizontal motion restarted at ``h0`` from ``origin``/``yaw0``,
-        its height offset by ``height`` [m] fading out with the rest of the way."""
+        """``state`` with its horizontal motion and its angles restarted at ``h0`` from
+        ``origin``/``yaw0``/``roll0``/``pitch0``, its height offset by ``height`` [m] fading
+        out with the rest of the way."""
         scale = 1.0 / (1.0 - h0)
         r, dr = max(h - h0, 0.0) * scale, dh * scale
         delta = landing.position[:2] - origin
@@ -289,12 +250,17 @@ class SwingFootTrajectory:
         if height:
             position[2] += height * (1.0 - r)
             velocity[2] -= height * dr
+        delta_roll, delta_pitch = landing.roll - roll0, landing.pitch - pitch0
         return FootState(
             frozen_array(position),
             yaw0 + r * delta_yaw,
             frozen_array(velocity),
             dr * delta_yaw,
             False,
+            roll0 + r * delta_roll,
+            pitch0 + r * delta_pitch,
+            dr * delta_roll,
+            dr * delta_pitch,
         )
 
     def _ctraj_interpolants(self, phi: float) -> tuple[float, float, float, float]:
@@ -317,12 +283,17 @@ class SwingFootTrajectory:
         lift_direction = np.array([0.0, 0.0, self.step_height])
         position = lift.position + h * delta + v * lift_direction
         velocity = dh * delta + dv * lift_direction
+        delta_roll, delta_pitch = landing.roll - lift.roll, landing.pitch - lift.pitch
         return FootState(
             frozen_array(position),
             lift.yaw + h * delta_yaw,
             frozen_array(velocity),
             dh * delta_yaw,
             False,
+            lift.roll + h * delta_roll,
+            lift.pitch + h * delta_pitch,
+            dh * delta_roll,
+            dh * delta_pitch,
         )
 
     def torso_yaw(self, t):

@@ -152,8 +152,8 @@ class IKTargets:
         com_velocity: np.ndarray | None = None,
         torso_yaw_rate: float | None = None,
     ) -> "IKTargets":
-        """Targets from the gait: a CoM, a :class:`~mpcwalk.gait.swing_foot.FeetState` (flat
-        feet, with velocities) and the torso yaw [rad] (torso upright).
+        """Targets from the gait: a CoM, a :class:`~mpcwalk.gait.swing_foot.FeetState` (feet at
+        their full orientation, with velocities) and the torso yaw [rad] (torso upright).
 
         Feed-forward velocities of the feet are set from ``feet``; the torso's when
         ``torso_yaw_rate`` [rad/s] is given.
@@ -162,7 +162,7 @@ class IKTargets:
         torso = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
         def velocity(foot) -> np.ndarray:
-            return np.concatenate([foot.linear_velocity, [0.0, 0.0, foot.yaw_rate]])
+            return np.concatenate([foot.linear_velocity, foot.angular_velocity])
 
         return IKTargets(
             com=com,

@@ -3,7 +3,12 @@
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import GRAVITY, LIPM
-from mpcwalk.models.support_polygon import SupportPolygon, convex_hull, foot_rectangle
+from mpcwalk.models.support_polygon import (
+    SupportPolygon,
+    convex_hull,
+    foot_rectangle,
+    sole_footprint,
+)
 
 __all__ = [
     "GRAVITY",
@@ -13,4 +18,5 @@ __all__ = [
     "SupportPolygon",
     "convex_hull",
     "foot_rectangle",
+    "sole_footprint",
 ]

@@ -162,3 +162,25 @@ def foot_rectangle(
     half = 0.5 * np.array([[length, width], [-length, width], [-length, -width], [length, -width]])
     vertices = np.asarray(center, dtype=float)[:2] + half @ R.T
     return SupportPolygon.from_vertices(vertices)
+
+
+def sole_footprint(
+    center: Sequence[float] | np.ndarray, rotation: np.ndarray, length: float, width: float
+) -> SupportPolygon:
+    """Horizontal projection of a rectangular sole, flat or tilted.
+
+    Args:
+        center: Sole centre (x, y) in the world, in [m] (a z is ignored).
+        rotation: Orientation of the sole in the world, shape (3, 3) (its x axis along the
+            length, its z axis the sole's normal).
+        length: Sole length along the sole's x axis, in [m].
+        width: Sole width along the sole's y axis, in [m].
+    """
+    if not (length > 0.0 and width > 0.0):
+        raise ConfigurationError(
+            f"Foot length and width must be positive, got {length!r} x {width!r} m."
+        )
+    half = 0.5 * np.array([[length, width], [-length, width], [-length, -width], [length, -width]])
+    planar = np.asarray(rotation, dtype=float)[:2, :2]  # sole x, y -> horizontal x, y
+    vertices = np.asarray(center, dtype=float)[:2] + half @ planar.T
+    return SupportPolygon.from_vertices(vertices)

@@ -35,11 +35,10 @@ def _path_in_robot_frame(
     c, s = math.cos(turn), math.sin(turn)
     rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
-    def move(foot: Footstep) -> Footstep:
-        return Footstep(
-            foot.side,
-            robot_mid + rotation @ (foot.position - mid0),
-            float(wrap_angle(foot.yaw + turn)),
+    def move(foot: Footstep) -> Footstep:  # turned about the vertical: roll and pitch kept
+        return foot.moved(
+            position=robot_mid + rotation @ (foot.position - mid0),
+            yaw=float(wrap_angle(foot.yaw + turn)),
         )
 
     moved = [PathWaypoint(left, right, first.line)]

@@ -15,9 +15,16 @@ L``). Each foot keeps the offset ``L_ref - L`` of its last landing; the swing fo
 its lift offset to its landing offset with paper M's ``h(phi)``, and the CoM and torso-yaw
 targets move with the mean offset of the feet. The measured drift of the support foot is
 therefore corrected at every step and does not accumulate.
+
+The re-aiming moves the landings horizontally (x, y, yaw): a footstep on a tilted tread keeps
+its height, roll and pitch (never flattened). Given a ``height_map`` (the ground's height and
+world roll and pitch at a point), a clamped landing takes the ground's where it lands instead,
+and the feet's targets move by that height and tilt too (``surface_offsets``); the CoM's
+height still follows the planned footsteps.
 """
 
 import math
+from dataclasses import replace
 from enum import Enum
 
 import numpy as np
@@ -25,7 +32,7 @@ import numpy as np
 from mpcwalk.control.stabilizers.base import GaitTargets, Stabilizer, StabilizerInput
 from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.footsteps.footstep import Footstep, Side, wrap_angle
+from mpcwalk.footsteps.footstep import Footstep, HeightMap, Side, wrap_angle
 from mpcwalk.footsteps.reachability import ATLAS_REACHABILITY, ReachabilityRectangle
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.interpolation import step_interpolation
@@ -71,6 +78,9 @@ class FootstepReaiming(Stabilizer):
             the IMU, plus the reference offset between the base and the support foot) or
             ``"sole"`` (the estimated sole yaw).
         reaim: Re-aim the steps (False: the state machine only tracks the states).
+        height_map: Ground at a world point, ``(x, y) -> (z [m], roll [rad], pitch [rad])``
+            (world roll and pitch of the ground), where a clamped landing takes its height and
+            tilt; None (default): the landing keeps its planned height, roll and pitch.
     """
 
     name = "reaim"
@@ -81,6 +91,7 @@ class FootstepReaiming(Stabilizer):
         *,
         yaw_source: str = "imu",
         reaim: bool = True,
+        height_map: HeightMap | None = None,
     ) -> None:
         if yaw_source not in ("imu", "sole"):
             raise ConfigurationError(f"yaw_source must be 'imu' or 'sole', got {yaw_source!r}.")
@@ -92,6 +103,7 @@ class FootstepReaiming(Stabilizer):
         """The rectangle in use: the given one, else the robot's from :meth:`reset`."""
         self.yaw_source = yaw_source
         self.reaim = bool(reaim)
+        self.height_map = height_map
         self.schedule: ContactSchedule | None = None
         self._reset_state()
 
@@ -101,7 +113,11 @@ class FootstepReaiming(Stabilizer):
         """(time [s], state entered) in order."""
         self.offsets: dict[Side, np.ndarray] = {s: np.zeros(3) for s in Side}
         """Per foot (dx [m], dy [m], dyaw [rad]) of its last landing in the reference frame."""
+        self.surface_offsets: dict[Side, np.ndarray] = {s: np.zeros(3) for s in Side}
+        """Per foot (dz [m], droll [rad], dpitch [rad]) of its last landing: the height map's
+        ground against the planned footstep (zeros without a height map)."""
         self._lift_offset = np.zeros(3)
+        self._lift_surface = np.zeros(3)
         self._aimed_step = -1
         self.landings: list[Footstep] = []
         """Re-aimed world landings, one per step (measured support frame, clamped)."""
@@ -152,12 +168,22 @@ class FootstepReaiming(Stabilizer):
 
     def aim_step(self, k: int, support_measured: Footstep) -> np.ndarray:
         """Re-aim step ``k`` from the measured support foot; returns the landing's offset
-        ``(dx, dy, dyaw)`` in the reference frame (also stored for the swing foot)."""
+        ``(dx, dy, dyaw)`` in the reference frame (also stored for the swing foot).
+
+        The landing keeps the planned height, roll and pitch, or takes the height map's
+        where it lands (their change is stored in :attr:`surface_offsets`)."""
         schedule = self._require_schedule()
         goal = schedule.plan.steps[k]
         planned_support = schedule.plan.support_foot(k)
-        result = self.rectangle.clamp_footstep(support_measured, goal)
+        result = self.rectangle.clamp_footstep(support_measured, goal, self.height_map)
         landing = result.footstep
+        self.surface_offsets[goal.side] = np.array(
+            [
+                landing.position[2] - goal.position[2],
+                landing.roll - goal.roll,
+                landing.pitch - goal.pitch,
+            ]
+        )
         self.nb_clamped += int(result.local.was_clamped)
         self.landings.append(landing)
         offset = self.offsets[planned_support.side]
@@ -210,16 +236,19 @@ class FootstepReaiming(Stabilizer):
             estimate = inputs.state
             if self._aimed_step < k and not feet[swing].in_contact and estimate is not None:
                 self._lift_offset = self.offsets[swing].copy()
+                self._lift_surface = self.surface_offsets[swing].copy()
                 support = self._measured_support(inputs, swing.other, estimate)
                 self.offsets[swing] = self.aim_step(k, support)
                 self._aimed_step = k
-        current = {}
+        current, surface = {}, {}
         for side in Side:
             if side is swing and self._aimed_step == k:
                 current[side] = (1.0 - h) * self._lift_offset + h * self.offsets[side]
+                surface[side] = (1.0 - h) * self._lift_surface + h * self.surface_offsets[side]
             else:
                 current[side] = self.offsets[side]
-        states = {side: _moved(feet[side], current[side]) for side in Side}
+                surface[side] = self.surface_offsets[side]
+        states = {side: _moved(feet[side], current[side], surface[side]) for side in Side}
         mean = 0.5 * (current[Side.LEFT] + current[Side.RIGHT])
         return GaitTargets(
             FeetState(feet.time, feet.step_index, states[Side.LEFT], states[Side.RIGHT]),
@@ -228,12 +257,16 @@ class FootstepReaiming(Stabilizer):
         )
 
 
-def _moved(foot: FootState, offset: np.ndarray) -> FootState:
+def _moved(foot: FootState, offset: np.ndarray, surface: np.ndarray) -> FootState:
+    """``foot`` moved by ``offset`` (dx, dy, dyaw) and ``surface`` (dz, droll, dpitch): its
+    other fields (height, roll and pitch without a height map, velocities) kept."""
     position = np.array(foot.position, dtype=float)
     position[:2] += offset[:2]
-    return FootState(
-        position, foot.yaw + float(offset[2]), foot.linear_velocity, foot.yaw_rate, foot.in_contact
-    )
+    changes: dict = {"position": position, "yaw": foot.yaw + float(offset[2])}
+    if np.any(surface):
+        position[2] += surface[0]
+        changes.update(roll=foot.roll + float(surface[1]), pitch=foot.pitch + float(surface[2]))
+    return replace(foot, **changes)
 
 
 def _quaternion_xyzw_matrix(q: np.ndarray) -> np.ndarray:
