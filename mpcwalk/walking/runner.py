@@ -170,6 +170,8 @@ def _walk(
         nb_generator_failures=walker.nb_generator_failures,
         closing_steps=1 if plan.command is not None and setup.plan.nb_steps else 0,
         state_source=setup.state_source,
+        terrain=world.terrain,
+        com_height=robot.com_height,
     )
     metrics = with_outcome(metrics, outcome, walker.faults)
     config = _config(setup, walker, outcome)

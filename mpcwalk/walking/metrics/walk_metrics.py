@@ -15,10 +15,12 @@ import numpy as np
 from mpcwalk.footsteps.footstep import Side, wrap_angle
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.sim import FallStatus
+from mpcwalk.terrain import Terrain
 from mpcwalk.walking.log import WalkLog
 from mpcwalk.walking.metrics.attitude import attitude_metrics, planned_yaw_change, yaw_deviation_deg
 from mpcwalk.walking.metrics.cop_margins import cop_margins, measured_support_polygon
 from mpcwalk.walking.metrics.estimator_accuracy import EstimatorAccuracy
+from mpcwalk.walking.metrics.terrain_metrics import terrain_metrics
 
 _SIDES = (Side.LEFT, Side.RIGHT)
 
@@ -98,6 +100,16 @@ class WalkMetrics:
         warnings: What makes the walk far from its plan though it did not fall
             (:func:`sanity_warnings`): large unplanned yaw, CoP long outside the feet,
             landings far from their footsteps.
+        landing_error_3d_cm_mean: On a terrain (None on the floor): landed sole centre
+            against its footstep in 3D [cm]; ``_max``: the largest.
+        landing_height_error_cm_max: On a terrain: largest landing height error [cm].
+        tread_margin_cm_min: On a terrain: smallest distance of a landed sole's corners to
+            the edges of its top [cm] (negative: overhanging).
+        swing_clearance_cm_min: On a terrain: lowest height of a swinging sole's corners
+            above the terrain under them, mid-swing [cm].
+        toe_stubs: On a terrain: swings in which a sole corner went below the terrain.
+        com_height_error_cm_rms: On a terrain: measured CoM height against the height
+            profile's, RMS [cm].
     """
 
     fell: bool
@@ -147,6 +159,13 @@ class WalkMetrics:
     estimator_com_velocity_error_rms_m_s: float | None
     estimator_yaw_drift_deg: float | None
     yaw_deviation_deg: float | None = None
+    landing_error_3d_cm_mean: float | None = None
+    landing_error_3d_cm_max: float | None = None
+    landing_height_error_cm_max: float | None = None
+    tread_margin_cm_min: float | None = None
+    swing_clearance_cm_min: float | None = None
+    toe_stubs: int | None = None
+    com_height_error_cm_rms: float | None = None
     outcome: str = "walked"
     stop_reason: str = ""
     interrupted: bool = False
@@ -239,6 +258,8 @@ def compute_walk_metrics(
     nb_generator_failures: int = 0,
     closing_steps: int = 0,
     state_source: str = "estimator",
+    terrain: Terrain | None = None,
+    com_height: float | None = None,
 ) -> WalkMetrics:
     """Metrics of a simulated walk (see :class:`WalkMetrics`).
 
@@ -251,6 +272,8 @@ def compute_walk_metrics(
         closing_steps: Footsteps of the plan added after the commanded ones.
         state_source: Where the controller's state came from (``"estimator"`` or
             ``"oracle"``: no estimator metrics).
+        terrain: The walk's terrain, for the terrain metrics (None: the floor, none).
+        com_height: The CoM height above the ground reference [m] (the terrain metrics').
     """
     end = float(log.time[-1]) if len(log) else 0.0
     metrics: dict[str, Any] = {
@@ -264,6 +287,9 @@ def compute_walk_metrics(
         "closing_steps": int(closing_steps),
     }
     metrics.update(_landing_metrics(log, schedule, end))
+    if terrain is not None and not terrain.is_flat and com_height is not None:
+        checks = landing_check_times(schedule)
+        metrics.update(terrain_metrics(log, schedule, terrain, checks, com_height, end))
     yaw = np.unwrap(log.base_rpy[:, 2]) if len(log) else np.zeros(1)
     metrics["yaw_change_deg"] = float(np.degrees(yaw[-1] - yaw[0]))
     metrics["yaw_change_planned_deg"] = float(
