@@ -1,7 +1,8 @@
 """Write the generated reference pages of the documentation site.
 
 - ``reference/metrics.md``: every key of ``metrics.json`` (the fields of ``WalkMetrics`` and
-  of the ``config`` block, ``WalkConfig``) with its meaning, from their docstrings;
+  of the ``config`` block, ``WalkConfig``) with its meaning, from their docstrings, and the
+  definition of the CoP margin, from its module's docstring;
 - ``reference/cli.md``: every command and sub-command with its options, from the parser.
 
 Run it after changing either (``python docs/generate_reference.py``); the test suite fails
@@ -10,6 +11,8 @@ when the committed pages differ from what it writes.
 
 import argparse
 import dataclasses
+import importlib
+import inspect
 import io
 import re
 import sys
@@ -78,7 +81,16 @@ def metrics_page() -> str:
     lines += [f"| `{k}` | {v.replace('|', '/')} |" for k, v in describe_keys(WalkMetrics)]
     lines += ["", "## The `config` block", "", "| key | meaning |", "|---|---|"]
     lines += [f"| `{k}` | {v.replace('|', '/')} |" for k, v in describe_keys(WalkConfig)]
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines + ["", *cop_margin_section()]) + "\n"
+
+
+def cop_margin_section() -> list[str]:
+    """The definition of the CoP margin: its module's docstring, in Markdown."""
+    module = importlib.import_module("mpcwalk.walking.metrics.cop_margins")
+    body = inspect.cleandoc(module.__doc__ or "").split("\n", 1)[1].strip()
+    body = re.sub(r":\w+:`~?([\w.]+)`", lambda m: f"`{m.group(1).split('.')[-1]}`", body)
+    title = "## The CoP margin (`cop_margin_min_m`, `cop_margin_p05_m`, `cop_outside_share`)"
+    return [title, "", body.replace("``", "`")]
 
 
 def _subparsers(parser: argparse.ArgumentParser):

@@ -86,7 +86,7 @@ def summary(result: "WalkResult") -> str:
         f"{state}; {m.steps_completed}/{m.steps_planned} steps completed, "
         f"{m.distance_m:.3f} m (planned {m.distance_planned_m:.3f} m), yaw "
         f"{m.yaw_change_deg:.1f} deg, foot error {_format(m.foot_position_error_cm_mean, ' cm')} "
-        f"mean, CoP margin min {format_length(m.cop_margin_min_m)}, real time "
+        f"mean, CoP margin min {format_length(m.cop_margin_min_m)} (loaded soles), real time "
         f"x{_format(m.real_time_factor)}\n{_sensing(result)}"
     )
 

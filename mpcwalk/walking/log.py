@@ -24,6 +24,7 @@ _EMPTY_SHAPES = {
     "dcm_error": (0, 2),
     "cop": (0, 3),
     "contact": (0, 2),
+    "foot_wrenches": (0, 2, 6),
     "sole_positions": (0, 2, 3),
     "sole_yaws": (0, 2),
     "feet_reference": (0, 2, 3),
@@ -36,6 +37,9 @@ _EMPTY_SHAPES = {
     "estimated_contact": (0, 2),
     "estimated_sole_positions": (0, 2, 3),
 }
+
+#: CSV columns of a foot's wrench, after the side (``left_force_x``...).
+_WRENCH_COLUMNS = tuple(f"{part}_{axis}" for part in ("force", "torque") for axis in "xyz")
 
 
 @dataclass(frozen=True)
@@ -54,6 +58,8 @@ class WalkLog:
         com_target: IK CoM target [m], (n, 3). dcm_error: [m], (n, 2).
         cop: Measured CoP (paper M eq. 31) [m], (n, 3), NaN without contact.
         contact: Measured contact of the left and right soles, (n, 2) bool.
+        foot_wrenches: Measured contact wrench of each foot, world frame: force [N], then
+            moment about its sole origin (``sole_positions``) [N m], (n, 2, 6).
         sole_positions: Measured soles [m], (n, 2, 3). sole_yaws: [rad], (n, 2).
         feet_reference: Sole references of the gait [m], (n, 2, 3).
         base_rpy: Base roll, pitch, yaw [rad], (n, 3).
@@ -84,6 +90,7 @@ class WalkLog:
     dcm_error: np.ndarray
     cop: np.ndarray
     contact: np.ndarray
+    foot_wrenches: np.ndarray
     sole_positions: np.ndarray
     sole_yaws: np.ndarray
     feet_reference: np.ndarray
@@ -119,7 +126,7 @@ class WalkLog:
     @classmethod
     def load(cls, path: str | Path) -> "WalkLog":
         """Read a log written by :meth:`save` as ``.npz`` (a log written before the base
-        position was recorded gets NaN there).
+        position or the foot wrenches were recorded gets NaN there).
 
         Raises:
             ConfigurationError: Not a walk log.
@@ -129,8 +136,9 @@ class WalkLog:
                 arrays = {name: data[name] for name in data.files}
         except (OSError, ValueError) as error:
             raise ConfigurationError(f"Cannot read the walk log {path}: {error}.") from None
-        if "base_position" not in arrays and "time" in arrays:
-            arrays["base_position"] = np.full((len(arrays["time"]), 3), np.nan)
+        for name, shape in (("base_position", (3,)), ("foot_wrenches", (2, 6))):
+            if name not in arrays and "time" in arrays:
+                arrays[name] = np.full((len(arrays["time"]), *shape), np.nan)
         missing = sorted({f.name for f in fields(cls)} - set(arrays))
         if missing:
             raise ConfigurationError(
@@ -189,6 +197,8 @@ class WalkLog:
             for i, axis in enumerate("xyz"):
                 columns[f"{side}_sole_{axis}"] = self.sole_positions[:, j, i]
             columns[f"{side}_sole_yaw"] = self.sole_yaws[:, j]
+            for i, name in enumerate(_WRENCH_COLUMNS):
+                columns[f"{side}_{name}"] = self.foot_wrenches[:, j, i]
         for name in (
             "ik_error",
             "generator_tick",
@@ -235,6 +245,8 @@ class WalkLogRecorder:
         rows["dcm_error"].append(output.dcm_error)
         rows["cop"].append(m.cop)
         rows["contact"].append((m.left_foot.in_contact, m.right_foot.in_contact))
+        feet = (m.left_foot, m.right_foot)
+        rows["foot_wrenches"].append([np.concatenate((f.force, f.torque)) for f in feet])
         rows["sole_positions"].append(m.sole_positions)
         rows["sole_yaws"].append(m.sole_yaws)
         rows["feet_reference"].append((output.feet.left.position, output.feet.right.position))

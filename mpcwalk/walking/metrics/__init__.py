@@ -3,7 +3,8 @@ measures it is made of.
 
 - :mod:`~mpcwalk.walking.metrics.walk_metrics`: :func:`compute_walk_metrics` (outcome,
   steps, landings, distance, timing), the sanity warnings;
-- :mod:`~mpcwalk.walking.metrics.cop_margins`: the measured CoP against the support;
+- :mod:`~mpcwalk.walking.metrics.cop_margins`: the measured CoP against the support of the
+  soles that carry force (its definition);
 - :mod:`~mpcwalk.walking.metrics.estimator_accuracy`: the estimated state against the
   ground truth;
 - :mod:`~mpcwalk.walking.metrics.attitude`: roll, pitch, yaw rate, the planned heading and
@@ -15,7 +16,12 @@ from mpcwalk.walking.metrics.attitude import (
     planned_yaw_change,
     yaw_deviation_deg,
 )
-from mpcwalk.walking.metrics.cop_margins import cop_margins, measured_support_polygon
+from mpcwalk.walking.metrics.cop_margins import (
+    cop_margins,
+    loaded_soles,
+    measured_support_polygon,
+    measured_zmp,
+)
 from mpcwalk.walking.metrics.estimator_accuracy import EstimatorAccuracy
 from mpcwalk.walking.metrics.walk_metrics import (
     WalkMetrics,
@@ -31,7 +37,9 @@ __all__ = [
     "compute_walk_metrics",
     "cop_margins",
     "landing_check_times",
+    "loaded_soles",
     "measured_support_polygon",
+    "measured_zmp",
     "planned_yaw_change",
     "sanity_warnings",
     "yaw_deviation_deg",

@@ -3,8 +3,7 @@
 Landings are measured in the middle of the next single support, when the landed foot
 carries the robot (as paper A's Fig. 8), or 0.5 s after the last landing
 (:func:`landing_check_times`). The CoP margins are the signed distances of the measured CoP
-to the support polygon of the feet the schedule puts on the ground, at their measured poses
-(:func:`cop_margins`, positive inside).
+to the support of the soles that carry force at each tick (:func:`cop_margins`).
 """
 
 from dataclasses import asdict, dataclass, replace
@@ -55,8 +54,9 @@ class WalkMetrics:
         distance_planned_reached_m: Same up to the last stance reached [m].
         yaw_change_deg: IMU yaw, start to end [deg].
         yaw_change_planned_deg: Heading of the planned stances, first to last [deg].
-        cop_margin_min_m: Smallest signed distance of the measured CoP to the measured
-            support polygon [m] (positive inside).
+        cop_margin_min_m: Smallest signed distance of the measured CoP to the support of
+            the soles carrying force [m], positive inside (on level ground: in the hull of
+            the loaded soles; :mod:`~mpcwalk.walking.metrics.cop_margins`).
         cop_margin_p05_m: Its 5th percentile [m].
         cop_outside_share: Share of the ticks with the CoP outside.
         com_error_rms_m: Measured CoM against the generator's reference, world frame, RMS [m].
@@ -98,7 +98,7 @@ class WalkMetrics:
         ik_failures: Ticks whose IK output was not finite (the reference held).
         fallback_ticks: Ticks with any fault (a failed solve included).
         warnings: What makes the walk far from its plan though it did not fall
-            (:func:`sanity_warnings`): large unplanned yaw, CoP long outside the feet,
+            (:func:`sanity_warnings`): large unplanned yaw, CoP long outside the soles,
             landings far from their footsteps.
         landing_error_3d_cm_mean: On a terrain (None on the floor): landed sole centre
             against its footstep in 3D [cm]; ``_max``: the largest.
@@ -356,7 +356,7 @@ def sanity_warnings(metrics: WalkMetrics) -> tuple[str, ...]:
     share = metrics.cop_outside_share
     if share is not None and share > COP_OUTSIDE_WARNING_SHARE:
         out.append(
-            f"the CoP was outside the feet on {100 * share:.0f} % of the ticks (beyond "
+            f"the CoP was outside the loaded soles on {100 * share:.0f} % of the ticks (beyond "
             f"{100 * COP_OUTSIDE_WARNING_SHARE:.0f} %)"
         )
     error = metrics.foot_position_error_cm_max
