@@ -1,5 +1,5 @@
 """Footsteps: types (3D poses), the velocity planner (paper M), path files and reachability
-(paper A)."""
+(paper A), landings placed on a terrain."""
 
 from mpcwalk.footsteps.footstep import (
     FootGeometry,
@@ -40,6 +40,7 @@ from mpcwalk.footsteps.rotations import (
     rpy_matrix,
     rpy_quaternion,
 )
+from mpcwalk.footsteps.terrain_steps import TerrainStepPlacer, place_on_terrain
 from mpcwalk.footsteps.velocity_planner import (
     VelocityCommand,
     VelocityPlanner,
@@ -65,12 +66,14 @@ __all__ = [
     "ReachabilityRectangle",
     "Side",
     "StepTiming",
+    "TerrainStepPlacer",
     "VelocityCommand",
     "VelocityPlanner",
     "integrate_torso",
     "opening_side",
     "parse_mdat",
     "path_targets",
+    "place_on_terrain",
     "plan_from_path",
     "plan_from_velocity",
     "quaternion_rpy",

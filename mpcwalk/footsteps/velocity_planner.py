@@ -22,6 +22,8 @@ from mpcwalk.exceptions import ConfigurationError, InfeasibleCommand
 from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side, StepTiming, wrap_angle
 from mpcwalk.footsteps.leg_limits import LegLimits
 from mpcwalk.footsteps.reachability import opening_side
+from mpcwalk.footsteps.terrain_steps import place_on_terrain
+from mpcwalk.terrain import Terrain, TerrainReach
 
 
 @dataclass(frozen=True)
@@ -173,6 +175,8 @@ class VelocityPlanner:
         initial_right: Footstep | None = None,
         first_swing: Side | str | None = None,
         stop: bool = True,
+        terrain: Terrain | None = None,
+        reach: TerrainReach | None = None,
     ) -> FootstepPlan:
         """Plan ``nb_steps`` steps at a constant command.
 
@@ -190,13 +194,20 @@ class VelocityPlanner:
                 steps), so the walk ends in double support centred on the
                 last torso pose of the model (up to the lag of a clamped
                 last landing).
+            terrain: The ground to walk (None: the flat floor, the plan as ever): every
+                landing is moved along its heading onto a top that holds the sole
+                (:mod:`~mpcwalk.footsteps.terrain_steps`), the closing step beside the
+                last landing on its top.
+            reach: What the legs and soles cross on ``terrain`` (needed with it).
 
         Returns:
             The footstep plan with this planner's timing.
 
         Raises:
             InfeasibleCommand: The command exceeds the legs' reach.
-            ConfigurationError: NaN command, negative ``nb_steps``, bad side.
+            InfeasibleStep: A landing finds no place on ``terrain`` within ``reach``.
+            ConfigurationError: NaN command, negative ``nb_steps``, bad side, a terrain
+                without its reach.
         """
         command = as_velocity_command(command)
         if (
@@ -244,7 +255,17 @@ class VelocityPlanner:
             xy = support.to_world(np.array([0.0, side.sign * 2.0 * h]))
             landing = np.array([xy[0], xy[1], support.position[2]])
             steps.append(Footstep(side, landing, support.yaw))
-        return FootstepPlan(left, right, tuple(steps), self.timing)
+        plan = FootstepPlan(left, right, tuple(steps), self.timing)
+        if terrain is None:
+            return plan
+        if reach is None:
+            raise ConfigurationError(
+                "Footsteps on a terrain need the legs' reach there: pass reach="
+                "TerrainReach.for_leg(sole_length, sole_width, leg_length)."
+            )
+        return place_on_terrain(
+            plan, terrain, reach, limits=self.limits, closing=stop and nb_steps > 0
+        )
 
 
 def plan_from_velocity(
@@ -266,6 +287,7 @@ def plan_from_velocity(
         nb_steps: Steps that follow the command.
         limits: Per-step reach of the legs.
         timing: Step timing.
-        **options: ``initial_left``, ``initial_right``, ``first_swing``, ``stop``.
+        **options: ``initial_left``, ``initial_right``, ``first_swing``, ``stop``,
+            ``terrain``, ``reach``.
     """
     return VelocityPlanner(limits, timing).plan(VelocityCommand(vx, vy, vyaw), nb_steps, **options)

@@ -15,11 +15,13 @@ from mpcwalk.footsteps.footstep import (
     wrap_angle,
 )
 from mpcwalk.footsteps.mdat import PathWaypoint, plan_from_path, read_mdat
+from mpcwalk.footsteps.terrain_steps import place_on_terrain
 from mpcwalk.footsteps.velocity_planner import (
     VelocityCommand,
     VelocityPlanner,
 )
 from mpcwalk.robot import Robot
+from mpcwalk.terrain import Terrain, TerrainReach
 
 
 def _path_in_robot_frame(
@@ -53,6 +55,8 @@ def plan_walk_footsteps(
     path: str | Path | None = None,
     nb_steps: int | None = None,
     timing: StepTiming = StepTiming(),
+    terrain: Terrain | None = None,
+    reach: TerrainReach | None = None,
 ) -> FootstepPlan:
     """Footsteps of a walk from the robot's nominal stance.
 
@@ -64,15 +68,27 @@ def plan_walk_footsteps(
         nb_steps: Steps that follow the command (a closing step is added), or the number of
             path steps to keep (None: all of them).
         timing: Step timing.
+        terrain: The ground to walk (None: the flat floor): the landings are moved along
+            their headings onto tops that hold the soles, within ``reach``
+            (:mod:`~mpcwalk.footsteps.terrain_steps`; a path's landings alike).
+        reach: What the robot's legs and soles cross (needed with ``terrain``), e.g.
+            ``TerrainReach.for_leg(sole_length, sole_width, leg_length)``.
 
     Raises:
-        ConfigurationError: Neither or both of ``command`` and ``path``.
+        ConfigurationError: Neither or both of ``command`` and ``path``; a terrain without
+            its reach.
         InfeasibleCommand: The command exceeds the robot's leg limits.
+        InfeasibleStep: A landing finds no place on ``terrain`` within ``reach``.
         FootstepFileError: The path file is malformed.
     """
     if command is not None and path is not None:
         raise ConfigurationError(
             "A walk needs either a velocity command (vx, vy, vyaw) or a .mdat path file, not both."
+        )
+    if terrain is not None and reach is None:
+        raise ConfigurationError(
+            "Footsteps on a terrain need the robot's reach there: pass reach="
+            "TerrainReach.for_leg(sole_length, sole_width, leg_length)."
         )
     left, right = robot.initial_feet()
     limits = robot.leg_limits
@@ -84,7 +100,7 @@ def plan_walk_footsteps(
                 "A walk from a velocity command needs nb_steps (or a duration)."
             )
         return VelocityPlanner(limits, timing).plan(
-            command, nb_steps, initial_left=left, initial_right=right
+            command, nb_steps, initial_left=left, initial_right=right, terrain=terrain, reach=reach
         )
     if path is None:  # excluded above; narrows the type
         raise ConfigurationError("A walk without a velocity command needs a .mdat path file.")
@@ -93,4 +109,6 @@ def plan_walk_footsteps(
     plan = plan_from_path(waypoints, rectangle=limits.rectangle(), timing=timing)
     if nb_steps is not None and nb_steps < plan.nb_steps:
         plan = FootstepPlan(plan.initial_left, plan.initial_right, plan.steps[:nb_steps], timing)
-    return plan
+    if terrain is None or reach is None:
+        return plan
+    return place_on_terrain(plan, terrain, reach, limits=limits)

@@ -1,0 +1,208 @@
+"""Footsteps placed on a terrain: the nominal landings moved along their headings onto tops
+that hold the sole, within the legs' reach.
+
+Each landing of a plan (the velocity planner's, on the flat floor) is carried along with the
+offset the terrain gave its support foot (the robot keeps the commanded stride, not the
+commanded schedule: a walk slowed by a flight of stairs does not rush afterwards), then
+moved along its heading, every :data:`~mpcwalk.footsteps.terrain_tops.SEARCH_STEP`, to the
+place nearest to it (forward first when two are as near) that
+
+- holds the sole (:class:`~mpcwalk.footsteps.terrain_tops.TerrainTops`: the whole sole on
+  one top with the tread margin, or resting on the highest block of a rough patch, wholly
+  on one block preferred by half a sole length);
+- is within ``reach.max_rise`` of the support foot's height and at most
+  ``reach.max_stride`` ahead of it (beyond the flat legs' ``max_step_forward``: stairs
+  whose run exceeds the flat stride are still climbed) or ``limits.max_step_backward``
+  behind;
+- lies on the support foot's top or the next one ahead (no tread or stone is skipped).
+
+On treads and stones, one or two feet per top as the geometry allows: from a tread, the
+landing goes onto the next one when it is within reach (step-over, one foot per tread),
+else the second foot joins the first on its tread; at the end of a top the landing moves
+onto the next one. The closing step joins the support foot on its top. The count of steps
+is the caller's: the robot walks as far as those steps go. The footstep's height is the
+sole centre's on its top.
+"""
+
+from dataclasses import replace
+
+import numpy as np
+
+from mpcwalk.exceptions import ConfigurationError, InfeasibleStep
+from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side
+from mpcwalk.footsteps.leg_limits import LegLimits
+from mpcwalk.footsteps.terrain_tops import SEARCH_STEP, Place, TerrainTops
+from mpcwalk.terrain import Terrain, TerrainReach
+
+#: Preference [share of the sole length] of a place wholly on one block of a rough patch.
+ROUGH_PREFERENCE = 0.5
+_EPS = 1e-9
+
+
+def _heading(yaw: float) -> np.ndarray:
+    return np.array([np.cos(yaw), np.sin(yaw)])
+
+
+class TerrainStepPlacer:
+    """Places footsteps on a terrain (see the module's documentation).
+
+    Args:
+        terrain: The ground.
+        reach: What the legs and soles cross (sole size, tread margin, stride, rise).
+        limits: The flat legs' reach; its ``max_step_backward`` bounds a landing behind the
+            support foot.
+    """
+
+    def __init__(
+        self, terrain: Terrain, reach: TerrainReach, limits: LegLimits = LegLimits()
+    ) -> None:
+        if not isinstance(terrain, Terrain) or not isinstance(reach, TerrainReach):
+            raise ConfigurationError(
+                f"Footsteps on a terrain need a Terrain and a TerrainReach, got "
+                f"{type(terrain).__name__} and {type(reach).__name__}; e.g. "
+                "TerrainReach.for_leg(sole_length, sole_width, leg_length)."
+            )
+        self.terrain, self.reach, self.limits = terrain, reach, limits
+        self.tops = TerrainTops(terrain, reach)
+
+    def place(self, plan: FootstepPlan, *, closing: bool = False) -> FootstepPlan:
+        """``plan`` with every landing moved onto the terrain (``closing``: its last step
+        puts the feet side by side). A flat terrain leaves the plan as it is.
+
+        Raises:
+            InfeasibleStep: A landing with no place within reach; the message names the
+                step, the distance and the feature.
+        """
+        if self.terrain.is_flat:
+            return plan
+        feet = {Side.LEFT: plan.initial_left, Side.RIGHT: plan.initial_right}
+        nominal = dict(feet)
+        steps: list[Footstep] = []
+        for k, step in enumerate(plan.steps):
+            support = feet[step.side.other]
+            heading = _heading(step.yaw)
+            shift = float((support.xy - nominal[step.side.other].xy) @ heading)
+            target = step.xy + shift * heading
+            is_closing = closing and k == len(plan.steps) - 1
+            place = self._choose(k, step, target, support, feet[step.side], is_closing)
+            rest = self.tops.support(place.center, step.yaw)
+            position = np.array([place.center[0], place.center[1], rest.height])
+            landing = Footstep(step.side, position, step.yaw)
+            feet[step.side], nominal[step.side] = landing, step
+            steps.append(landing)
+        return replace(plan, steps=tuple(steps))
+
+    def _places(
+        self, step: Footstep, target: np.ndarray, support: Footstep, ahead: float
+    ) -> list[Place]:
+        """The places along the landing's heading from ``limits.max_step_backward`` behind
+        the support foot to ``ahead`` [m] ahead of it (every :data:`SEARCH_STEP`)."""
+        heading, support_heading = _heading(step.yaw), _heading(support.yaw)
+        along = float(heading @ support_heading)
+        if along <= 1e-3:  # a landing turned across the support foot: only its own place
+            offsets = np.zeros(1)
+        else:
+            start = float((target - support.xy) @ support_heading)
+            low = (-self.limits.max_step_backward - start) / along
+            high = (ahead - start) / along
+            offsets = SEARCH_STEP * np.arange(
+                np.ceil(low / SEARCH_STEP - 1e-9), np.floor(high / SEARCH_STEP + 1e-9) + 1
+            )
+        centers = target + offsets[:, None] * heading
+        strides = (centers - support.xy) @ support_heading
+        return self.tops.places(centers, step.yaw, offsets, strides)
+
+    def _within_reach(self, place: Place, support: Footstep) -> bool:
+        rise = abs(place.height - float(support.position[2]))
+        return (
+            place.holds
+            and rise <= self.reach.max_rise + _EPS
+            and -self.limits.max_step_backward - _EPS <= place.stride
+            and place.stride <= self.reach.max_stride + _EPS
+        )
+
+    def _preference(self, place: Place) -> tuple[float, int]:
+        penalty = 0.0
+        if place.top[0] == "rough" and not place.wholly:
+            penalty = ROUGH_PREFERENCE * self.reach.sole_length
+        return abs(place.offset) + penalty, 0 if place.offset >= 0.0 else 1
+
+    def _choose(
+        self,
+        k: int,
+        step: Footstep,
+        target: np.ndarray,
+        support: Footstep,
+        swing: Footstep,
+        closing: bool,
+    ) -> Place:
+        valid = [
+            p
+            for p in self._places(step, target, support, self.reach.max_stride)
+            if self._within_reach(p, support)
+        ]
+        own = self.tops.rests_on(support.xy, support.yaw)
+        behind = self.tops.rests_on(swing.xy, swing.yaw)
+        first: dict = {}  # top -> nearest stride of its places
+        for p in valid:
+            first[p.top] = min(first.get(p.top, np.inf), p.stride)
+        ahead = [top for top, stride in first.items() if top != own and stride > _EPS]
+        following = min(ahead, key=lambda top: first[top]) if ahead else None
+        allowed = {own, following, behind}
+        pool = [p for p in valid if p.top in allowed]
+        if not pool:
+            raise self._infeasible(k, step, target, support, own)
+        best = min(pool, key=self._preference)
+        on_own = [p for p in pool if p.top == own]
+        on_next = [p for p in pool if p.top == following]
+        progress = float((target - support.xy) @ _heading(support.yaw))
+        if closing and on_own:
+            return min(on_own, key=self._preference)
+        if progress > _EPS and best.top == own:
+            stalled = best.stride <= _EPS
+            if on_next and (self.tops.is_narrow(own) or stalled):
+                return min(on_next, key=self._preference)
+            if stalled and not on_next and behind == own:
+                raise self._infeasible(k, step, target, support, own)
+        return best
+
+    def _infeasible(
+        self, k: int, step: Footstep, target: np.ndarray, support: Footstep, own
+    ) -> InfeasibleStep:
+        """The error of a landing with no place within reach: the nearest place ahead that
+        holds the sole, how far and how high it is, and its feature."""
+        reach = self.reach
+        places = self._places(step, target, support, reach.max_stride + max(1.0, reach.max_stride))
+        beyond = [p for p in places if p.holds and p.top != own and p.stride > _EPS]
+        where = f"from the support foot at x = {support.xy[0]:.3f} m"
+        if not beyond:
+            found = "finds no top ahead that holds its sole (the terrain ends)"
+        else:
+            p = min(beyond, key=lambda place: place.stride)
+            rise = p.height - float(support.position[2])
+            found = (
+                f"finds the nearest top that holds its sole {p.stride:.3f} m ahead and "
+                f"{rise:+.3f} m up, on {self.tops.describe(p.top)}"
+            )
+        return InfeasibleStep(
+            f"Step {k} ({step.side.value} foot) has no place on the terrain within reach: "
+            f"{where}, it {found}; its legs reach {reach.max_stride:.3f} m ahead and "
+            f"{reach.max_rise:.3f} m up or down, with the sole {reach.tread_margin:.3f} m "
+            "from a top's edges. Shorten the gap or the rise, or walk a robot with longer "
+            "legs (TerrainReach.for_leg)."
+        )
+
+
+def place_on_terrain(
+    plan: FootstepPlan,
+    terrain: Terrain,
+    reach: TerrainReach,
+    *,
+    limits: LegLimits = LegLimits(),
+    closing: bool = False,
+) -> FootstepPlan:
+    """One-call form of :meth:`TerrainStepPlacer.place`."""
+    return TerrainStepPlacer(terrain, reach, limits).place(plan, closing=closing)
+
+
+__all__ = ["ROUGH_PREFERENCE", "TerrainStepPlacer", "place_on_terrain"]

@@ -1,0 +1,190 @@
+"""Footsteps placed on a terrain: whole soles on tops with margins, within the legs' reach,
+one or two feet per tread, stones only, the highest block of a rough patch."""
+
+import math
+
+import numpy as np
+import pytest
+
+from mpcwalk.exceptions import ConfigurationError, InfeasibleStep
+from mpcwalk.footsteps import LegLimits, Side, StepTiming, VelocityPlanner, place_on_terrain
+from mpcwalk.terrain import (
+    FLAT,
+    Platform,
+    RoughPatch,
+    Slope,
+    Stairs,
+    SteppingStones,
+    Terrain,
+    TerrainReach,
+)
+
+#: The issue's terrain: 5 steps up from 0.6 m, 5 down from 2.4 m, a 10 deg ramp at 4.5 m.
+ISSUE = Terrain([Stairs(0.6, 0.15, 0.30, 5), Stairs(2.4, -0.15, 0.30, 5), Slope(4.5, 1.5, 10.0)])
+BIG_REACH = TerrainReach.for_leg(0.2, 0.1, 0.8)
+#: A large robot's flat reach: its flat stride (0.25 m) is shorter than the stairs' run.
+BIG_LIMITS = LegLimits(0.25, 0.15, 0.17, 0.4, 0.4, 0.09, 0.11)
+BIG_TIMING = StepTiming(0.8, 0.2, 1.0, 1.0)
+SMALL_REACH = TerrainReach.for_leg(0.10, 0.06, 0.2)
+SMALL_STAIRS = Terrain([Stairs(0.3, 0.05, 0.15, 4), Stairs(1.2, -0.05, 0.15, 4)])
+
+
+def big_plan(vx=0.1, nb_steps=50, terrain=ISSUE):
+    planner = VelocityPlanner(BIG_LIMITS, BIG_TIMING)
+    return planner.plan((vx, 0.0, 0.0), nb_steps, terrain=terrain, reach=BIG_REACH)
+
+
+def small_plan(terrain, reach=SMALL_REACH, nb_steps=30, vx=0.1):
+    return VelocityPlanner().plan((vx, 0.0, 0.0), nb_steps, terrain=terrain, reach=reach)
+
+
+def assert_on_tops_within_reach(plan, terrain, reach):
+    """Every landing: whole sole on one top with the tread margin, at the top's height,
+    within the rise and the stride of its support foot."""
+    for k, step in enumerate(plan.steps):
+        support = terrain.sole_support(step.xy, step.yaw, reach.sole_length, reach.sole_width)
+        assert support.margin >= reach.tread_margin - 1e-9, k
+        assert step.position[2] == pytest.approx(support.height, abs=1e-12), k
+        assert step.position[2] == pytest.approx(terrain.height(*step.xy), abs=1e-12), k
+        foot = plan.support_foot(k)
+        assert abs(step.position[2] - foot.position[2]) <= reach.max_rise + 1e-9, k
+        assert foot.to_local(step.xy)[0] <= reach.max_stride + 1e-9, k
+
+
+def stride_ahead(plan, k):
+    return plan.support_foot(k).to_local(plan.steps[k].xy)[0]
+
+
+def test_the_issue_stairs_and_ramp_are_climbed_one_foot_per_tread():
+    plan = big_plan()
+    assert plan.nb_steps == 51  # the caller's count: 50 steps and the closing one
+    assert_on_tops_within_reach(plan, ISSUE, BIG_REACH)
+    heights = np.array([s.position[2] for s in plan.steps])
+    for flight in ISSUE.features[:2]:
+        on = [s for s in plan.steps if flight.start < s.xy[0] < flight.end]
+        treads = sorted(math.floor((s.xy[0] - flight.start) / flight.run) for s in on)
+        assert treads == list(range(flight.count - 1))  # one foot per tread, every tread
+    # the run (0.30 m) exceeds the flat stride (0.25 m): climbed with longer strides
+    strides = [stride_ahead(plan, k) for k in range(plan.nb_steps)]
+    assert max(strides) == pytest.approx(0.30, abs=1e-9)
+    assert max(strides) > BIG_LIMITS.max_step_forward
+    # every height is a multiple of the rise on the stairs, the ramp's beyond
+    stairs = [h for s, h in zip(plan.steps, heights) if s.xy[0] < 4.5]
+    np.testing.assert_allclose(np.round(np.array(stairs) / 0.15) * 0.15, stairs, atol=1e-12)
+    ramp = [s for s in plan.steps if 4.5 < s.xy[0] < 6.0]
+    assert ramp and all(
+        s.position[2] == pytest.approx((s.xy[0] - 4.5) * math.tan(math.radians(10.0))) for s in ramp
+    )
+    final = plan.stance(plan.nb_steps)
+    assert final[Side.LEFT].xy[0] == final[Side.RIGHT].xy[0] > 6.0  # side by side, on top
+    assert heights[-1] == pytest.approx(ISSUE.level_after)
+
+
+def test_a_faster_command_keeps_one_foot_per_tread_and_its_stride_elsewhere():
+    plan = big_plan(vx=0.3, nb_steps=24)
+    assert_on_tops_within_reach(plan, ISSUE, BIG_REACH)
+    strides = np.array([stride_ahead(plan, k) for k in range(plan.nb_steps - 1)])
+    on_stairs = np.array([0.6 < s.xy[0] < 4.1 for s in plan.steps[:-1]])
+    flat = strides[~on_stairs & (np.abs(strides - 0.24) < 1e-9)]
+    assert len(flat) >= 5  # the commanded 0.24 m stride where nothing is in the way
+
+
+def test_small_stairs_with_a_small_robot():
+    plan = small_plan(SMALL_STAIRS)
+    assert_on_tops_within_reach(plan, SMALL_STAIRS, SMALL_REACH)
+    assert max(stride_ahead(plan, k) for k in range(plan.nb_steps)) > LegLimits().max_step_forward
+    climbed = sorted({round(s.position[2], 9) for s in plan.steps})
+    assert climbed == pytest.approx([0.0, 0.05, 0.1, 0.15, 0.2])
+    for flight in SMALL_STAIRS.features:
+        treads = [math.floor((s.xy[0] - flight.start) / flight.run) for s in plan.steps]
+        on = [t for s, t in zip(plan.steps, treads) if flight.start < s.xy[0] < flight.end]
+        assert sorted(on) == list(range(flight.count - 1))  # one foot per tread
+
+
+def test_treads_longer_than_a_stride_hold_both_feet():
+    terrain = Terrain([Stairs(0.3, 0.05, 0.26, 4)])  # 0.26 m run, 0.16 m stride
+    plan = small_plan(terrain)
+    assert_on_tops_within_reach(plan, terrain, SMALL_REACH)
+    for k in range(3):
+        x0 = 0.3 + k * 0.26
+        sides = {s.side for s in plan.steps if x0 < s.xy[0] < x0 + 0.26}
+        assert sides == {Side.LEFT, Side.RIGHT}
+
+
+def test_stepping_stones_are_the_only_ground_over_the_pit():
+    stones = SteppingStones(0.3, count=5, length=0.15, gap=0.08, width=0.4)
+    terrain = Terrain([stones])
+    reach = TerrainReach.for_leg(0.10, 0.06, 0.3)
+    plan = small_plan(terrain, reach)
+    assert_on_tops_within_reach(plan, terrain, reach)
+    used = set()
+    for step in plan.steps:
+        # the ground under the whole sole is at its height: no part of it over the pit
+        u, v = np.meshgrid(np.linspace(-0.05, 0.05, 41), np.linspace(-0.03, 0.03, 7))
+        ground = terrain.height(step.xy[0] + u.ravel(), step.xy[1] + v.ravel())
+        np.testing.assert_allclose(ground, step.position[2], atol=1e-12)
+        k = math.floor((step.xy[0] - stones.start) / stones.pitch)
+        if 0 <= k < stones.count and step.xy[0] - stones.start - k * stones.pitch < stones.length:
+            used.add(k)
+    assert used == set(range(stones.count))
+
+
+def test_on_a_rough_patch_the_sole_rests_on_its_highest_block():
+    terrain = Terrain([RoughPatch(0.3, length=1.0, width=0.6, block=0.1, height=0.02, seed=1)])
+    plan = small_plan(terrain)
+    wholly = 0
+    for step in plan.steps:
+        u, v = np.meshgrid(np.linspace(-0.05, 0.05, 21), np.linspace(-0.03, 0.03, 7))
+        ground = terrain.height(step.xy[0] + u.ravel(), step.xy[1] + v.ravel())
+        assert step.position[2] == pytest.approx(ground.max(), abs=1e-12)
+        on_patch = 0.3 < step.xy[0] < 1.3
+        support = terrain.sole_support(step.xy, step.yaw, 0.10, 0.06)
+        wholly += on_patch and support.margin >= -1e-9
+    assert wholly >= 5  # the places wholly on one block are preferred
+
+
+def test_a_rise_beyond_the_legs_reach_names_the_step_the_distance_and_the_feature():
+    terrain = Terrain([Platform(0.4, length=0.5, height=0.15)])  # 0.15 m > 0.10 m rise
+    with pytest.raises(InfeasibleStep, match=r"Platform at 0.4 m") as error:
+        small_plan(terrain)
+    assert "+0.150 m up" in str(error.value) and "0.100 m up or down" in str(error.value)
+    wide = Terrain([SteppingStones(0.3, count=3, length=0.15, gap=0.2, width=0.4)])
+    with pytest.raises(InfeasibleStep, match=r"m ahead .* SteppingStones at 0.3 m"):
+        small_plan(wide)
+
+
+def test_a_terrain_needs_its_reach():
+    with pytest.raises(ConfigurationError, match="TerrainReach.for_leg"):
+        VelocityPlanner().plan((0.1, 0.0, 0.0), 4, terrain=SMALL_STAIRS)
+
+
+@pytest.mark.parametrize("command", [(0.1, 0.0, 0.0), (0.1, 0.02, 0.3), (-0.05, 0.0, 0.0)])
+def test_flat_plans_are_unchanged_bit_for_bit(command):
+    planner = VelocityPlanner()
+    plain = planner.plan(command, 12)
+    for terrain in (None, FLAT):
+        same = planner.plan(command, 12, terrain=terrain, reach=SMALL_REACH)
+        for a, b in zip(same.steps, plain.steps):
+            assert a.side is b.side and a.yaw == b.yaw
+            assert np.array_equal(a.position, b.position)
+    # features far away: every landing stays where it was
+    far = Terrain([Stairs(20.0, 0.05, 0.15, 3)])
+    placed = place_on_terrain(plain, far, SMALL_REACH)
+    for a, b in zip(placed.steps, plain.steps):
+        assert np.array_equal(a.position, b.position) and a.yaw == b.yaw
+
+
+def test_a_walk_s_footsteps_on_a_terrain(bioloid):
+    from mpcwalk.walking.footstep_planning import plan_walk_footsteps
+
+    plan = plan_walk_footsteps(
+        bioloid, command=(0.1, 0.0, 0.0), nb_steps=16, terrain=SMALL_STAIRS, reach=SMALL_REACH
+    )
+    assert plan.nb_steps == 17
+    assert_on_tops_within_reach(plan, SMALL_STAIRS, SMALL_REACH)
+    assert max(s.position[2] for s in plan.steps) == pytest.approx(0.2)
+    flat = plan_walk_footsteps(bioloid, command=(0.1, 0.0, 0.0), nb_steps=16)
+    same = plan_walk_footsteps(bioloid, command=(0.1, 0.0, 0.0), nb_steps=16, terrain=None)
+    assert all(np.array_equal(a.position, b.position) for a, b in zip(flat.steps, same.steps))
+    with pytest.raises(ConfigurationError, match="reach"):
+        plan_walk_footsteps(bioloid, command=(0.1, 0.0, 0.0), nb_steps=4, terrain=SMALL_STAIRS)
