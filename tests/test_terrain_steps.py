@@ -75,6 +75,9 @@ def test_the_issue_stairs_and_ramp_are_climbed_one_foot_per_tread():
     assert ramp and all(
         s.position[2] == pytest.approx((s.xy[0] - 4.5) * math.tan(math.radians(10.0))) for s in ramp
     )
+    # soles tilted as the ramp (toes up), flat elsewhere
+    assert all(s.pitch == pytest.approx(-math.radians(10.0)) and s.roll == 0.0 for s in ramp)
+    assert all(s.is_flat for s in plan.steps if all(s is not r for r in ramp))
     final = plan.stance(plan.nb_steps)
     assert final[Side.LEFT].xy[0] == final[Side.RIGHT].xy[0] > 6.0  # side by side, on top
     assert heights[-1] == pytest.approx(ISSUE.level_after)

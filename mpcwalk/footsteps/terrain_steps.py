@@ -21,7 +21,8 @@ landing goes onto the next one when it is within reach (step-over, one foot per 
 else the second foot joins the first on its tread; at the end of a top the landing moves
 onto the next one. The closing step joins the support foot on its top. The count of steps
 is the caller's: the robot walks as far as those steps go. The footstep's height is the
-sole centre's on its top.
+sole centre's on its top, its roll and pitch the top's tilt under its heading
+(:meth:`~mpcwalk.terrain.Terrain.sole_support`).
 """
 
 from dataclasses import replace
@@ -87,7 +88,7 @@ class TerrainStepPlacer:
             place = self._choose(k, step, target, support, feet[step.side], is_closing)
             rest = self.tops.support(place.center, step.yaw)
             position = np.array([place.center[0], place.center[1], rest.height])
-            landing = Footstep(step.side, position, step.yaw)
+            landing = Footstep(step.side, position, step.yaw, rest.roll, rest.pitch)
             feet[step.side], nominal[step.side] = landing, step
             steps.append(landing)
         return replace(plan, steps=tuple(steps))
