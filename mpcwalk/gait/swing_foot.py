@@ -27,6 +27,8 @@ from mpcwalk.footsteps.footstep import Footstep, Side, wrap_angle
 from mpcwalk.gait.contact_schedule import ContactSchedule, Phase
 from mpcwalk.gait.foot_state import FeetState, FootState
 from mpcwalk.gait.interpolation import step_interpolation_scalar, swing_height_scalar
+from mpcwalk.gait.swing_clearance import SwingClearance, with_height
+from mpcwalk.terrain import Terrain
 
 __all__ = ["SWING_PROFILES", "FeetState", "FootState", "SwingFootTrajectory"]
 
@@ -61,6 +63,11 @@ class SwingFootTrajectory:
             a Cartesian trajectory with the quintic time law of
             :func:`~mpcwalk.gait.ctraj.ctraj`: zero velocity and acceleration
             at lift-off, apex and touchdown).
+        terrain: The ground (None: the flat floor). A swing over ground higher than its
+            footholds rises, travels, then lowers, clearing the terrain by ``clearance``
+            (:mod:`~mpcwalk.gait.swing_clearance`); the others keep ``profile``.
+        clearance: Least height [m] of the swing sole above the terrain (default:
+            ``step_height``, at least 1 cm).
 
     Raises:
         ConfigurationError: If ``schedule`` is not a ContactSchedule or
@@ -68,7 +75,13 @@ class SwingFootTrajectory:
     """
 
     def __init__(
-        self, schedule: ContactSchedule, step_height: float = 0.04, profile: str = "cosine"
+        self,
+        schedule: ContactSchedule,
+        step_height: float = 0.04,
+        profile: str = "cosine",
+        *,
+        terrain: Terrain | None = None,
+        clearance: float | None = None,
     ) -> None:
         if profile not in SWING_PROFILES:
             raise ConfigurationError(
@@ -92,6 +105,11 @@ class SwingFootTrajectory:
         self.phi_b = schedule.t_b / schedule.step_duration
         self.phi_e = schedule.t_e / schedule.step_duration
         self.torso_yaws = self._torso_waypoint_yaws()
+        self.terrain_clearance = (
+            SwingClearance(terrain, schedule.foot, step_height, clearance)
+            if terrain is not None and not terrain.is_flat
+            else None
+        )
         # step index -> (h, horizontal position (2,), yaw, height offset, roll, pitch) the
         # swing restarts from
         self._restarts: dict[int, tuple[float, np.ndarray, float, float, float, float]] = {}
@@ -217,6 +235,14 @@ class SwingFootTrajectory:
         self, t: float, lift: Footstep, landing: Footstep, h: float, dh: float
     ) -> FootState:
         phi = self.schedule.step_phase(t)
+        if self.terrain_clearance is not None:
+            span = self.phi_e - self.phi_b
+            shaped = self.terrain_clearance.interpolants(
+                lift, landing, (phi - self.phi_b) / span, span * self.step_duration
+            )
+            if shaped is not None:
+                state = self._blend(lift, landing, shaped[0], shaped[1], 0.0, 0.0)
+                return with_height(state, shaped[2], shaped[3])
         if self.profile == "ctraj":
             h, dh, v, dv = self._ctraj_interpolants(phi)
             return self._blend(lift, landing, h, dh, v, dv)

@@ -1,0 +1,138 @@
+"""Swing feet that clear the terrain: the shaped swing keeps its clearance over the noses of
+the stairs where paper M's would stub, and a flat walk keeps paper M's swing bit for bit."""
+
+import math
+
+import numpy as np
+import pytest
+
+from mpcwalk.footsteps import FootGeometry, Footstep, LegLimits, Side, StepTiming, VelocityPlanner
+from mpcwalk.gait import (
+    ContactSchedule,
+    SwingFootTrajectory,
+    measure_swing_clearance,
+    sole_clearance,
+)
+from mpcwalk.gait.swing_clearance import MIN_CLEARANCE
+from mpcwalk.terrain import FLAT, Platform, Slope, Stairs, Terrain, TerrainReach
+
+ISSUE = Terrain([Stairs(0.6, 0.15, 0.30, 5), Stairs(2.4, -0.15, 0.30, 5), Slope(4.5, 1.5, 10.0)])
+BIG_SOLE = FootGeometry(0.2, 0.1)
+SMALL_STAIRS = Terrain([Stairs(0.3, 0.05, 0.15, 4), Stairs(1.2, -0.05, 0.15, 4)])
+
+
+@pytest.fixture(scope="module")
+def issue_schedule():
+    planner = VelocityPlanner(LegLimits(0.25, 0.15, 0.17, 0.4, 0.4, 0.09, 0.11), StepTiming(0.8))
+    reach = TerrainReach.for_leg(BIG_SOLE.length, BIG_SOLE.width, 0.8)
+    plan = planner.plan((0.1, 0.0, 0.0), 50, terrain=ISSUE, reach=reach)
+    return ContactSchedule(plan, BIG_SOLE)
+
+
+@pytest.fixture(scope="module")
+def small_schedule():
+    reach = TerrainReach.for_leg(0.10, 0.06, 0.2)
+    plan = VelocityPlanner().plan((0.1, 0.0, 0.0), 30, terrain=SMALL_STAIRS, reach=reach)
+    return ContactSchedule(plan, FootGeometry(0.10, 0.06))
+
+
+def between_treads(schedule):
+    """Steps whose swing goes from one height to another (stairs, ramp)."""
+    plan = schedule.plan
+    return [
+        k
+        for k, step in enumerate(plan.steps)
+        if abs(step.position[2] - plan.stance(k)[step.side].position[2]) > 1e-9
+    ]
+
+
+@pytest.mark.parametrize("profile", ["cosine", "ctraj"])
+def test_swings_over_the_issue_stairs_keep_their_clearance_where_paper_m_s_would_stub(
+    issue_schedule, profile
+):
+    step_height = 0.08
+    shaped = SwingFootTrajectory(issue_schedule, step_height, profile, terrain=ISSUE)
+    report = measure_swing_clearance(shaped, ISSUE, dt=0.002)
+    steps = between_treads(issue_schedule)
+    assert len(steps) >= 20  # up, down, onto and off the ramp
+    assert report.toe_stubs == 0
+    assert min(report.per_step[k] for k in steps) >= step_height
+    assert report.min_clearance >= 0.0
+    plain = measure_swing_clearance(
+        SwingFootTrajectory(issue_schedule, step_height, profile), ISSUE
+    )
+    assert plain.toe_stubs > 0
+    assert min(plain.per_step[k] for k in steps) < -0.05  # the toe deep in a riser
+
+
+def test_swings_over_small_stairs_keep_their_clearance(small_schedule):
+    shaped = SwingFootTrajectory(small_schedule, 0.04, terrain=SMALL_STAIRS)
+    report = measure_swing_clearance(shaped, SMALL_STAIRS, dt=0.002)
+    steps = between_treads(small_schedule)
+    assert len(steps) == 10 and report.toe_stubs == 0
+    assert min(report.per_step[k] for k in steps) >= 0.04
+    higher = SwingFootTrajectory(small_schedule, 0.04, terrain=SMALL_STAIRS, clearance=0.06)
+    assert measure_swing_clearance(higher, SMALL_STAIRS).min_clearance >= 0.06
+    low = SwingFootTrajectory(small_schedule, 0.0, terrain=SMALL_STAIRS)
+    assert low.terrain_clearance is not None
+    assert low.terrain_clearance.clearance == MIN_CLEARANCE  # at least 1 cm
+    plain = measure_swing_clearance(SwingFootTrajectory(small_schedule, 0.04), SMALL_STAIRS)
+    assert plain.toe_stubs > 0
+
+
+def test_a_shaped_swing_rises_travels_and_lowers_at_rest_at_both_ends(issue_schedule):
+    trajectory = SwingFootTrajectory(issue_schedule, 0.08, terrain=ISSUE)
+    plan, schedule = issue_schedule.plan, issue_schedule
+    k = between_treads(issue_schedule)[1]  # from the floor onto the second tread
+    landing = plan.steps[k]
+    lift = plan.stance(k)[landing.side]
+    start = schedule.walk_start + k * schedule.step_duration
+    times = np.linspace(start + schedule.t_b, start + schedule.t_e - 1e-9, 2001)
+    feet = [trajectory.foot_poses(t)[landing.side] for t in times]
+    positions = np.array([f.position for f in feet])
+    velocities = np.array([f.linear_velocity for f in feet])
+    np.testing.assert_allclose(positions[0], lift.position, atol=1e-9)
+    np.testing.assert_allclose(positions[-1], landing.position, atol=1e-6)
+    np.testing.assert_allclose(velocities[[0, -1]], 0.0, atol=1e-5)
+    dt = times[1] - times[0]
+    np.testing.assert_allclose(
+        np.gradient(positions, dt, axis=0)[1:-1], velocities[1:-1], atol=0.02
+    )
+    # the foot is above the landing tread's nose plus the clearance before its toe passes it
+    nose = math.floor((landing.xy[0] - 0.6) / 0.3) * 0.3 + 0.6
+    toe = positions[:, 0] + 0.5 * BIG_SOLE.length
+    passing = np.flatnonzero(toe >= nose)[0]
+    assert positions[passing, 2] >= landing.position[2] + 0.08
+
+
+@pytest.mark.parametrize("profile", ["cosine", "ctraj"])
+def test_a_flat_walk_keeps_paper_m_s_swing_bit_for_bit(profile):
+    plan = VelocityPlanner().plan((0.1, 0.02, 0.2), 8)  # turning, sideways, flat
+    schedule = ContactSchedule(plan)
+    plain = SwingFootTrajectory(schedule, 0.04, profile)
+    far = Terrain([Platform(30.0, 0.5, 0.05)])  # a terrain, nothing of it under the walk
+    others = [
+        SwingFootTrajectory(schedule, 0.04, profile, terrain=terrain)
+        for terrain in (None, FLAT, far)
+    ]
+    for t in np.arange(0.0, schedule.duration, 0.003):
+        expected = plain.foot_poses(t)
+        for other in others:
+            state = other.foot_poses(t)
+            for side in Side:
+                a, b = expected[side], state[side]
+                assert np.array_equal(a.position, b.position)
+                assert np.array_equal(a.linear_velocity, b.linear_velocity)
+                assert (a.yaw, a.yaw_rate, a.roll, a.pitch) == (b.yaw, b.yaw_rate, b.roll, b.pitch)
+
+
+def test_the_clearance_of_a_sole_over_a_nose():
+    terrain = Terrain([Platform(0.5, 0.5, 0.1)])
+    lift = Footstep(Side.LEFT, (0.2, 0.0, 0.0))
+    landing = Footstep(Side.LEFT, (0.7, 0.0, 0.1))
+    over = Footstep(Side.LEFT, (0.45, 0.0, 0.13))  # toe 5 cm past the nose, 3 cm above it
+    assert sole_clearance(terrain, over, lift, landing, 0.1, 0.06) == pytest.approx(0.03)
+    stub = Footstep(Side.LEFT, (0.47, 0.0, 0.08))  # toe in the platform's side
+    assert sole_clearance(terrain, stub, lift, landing, 0.1, 0.06) == pytest.approx(-0.02)
+    # over its own footprints only: nothing to clear
+    assert sole_clearance(terrain, landing, lift, landing, 0.1, 0.06) == math.inf
