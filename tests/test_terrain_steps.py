@@ -191,3 +191,11 @@ def test_a_walk_s_footsteps_on_a_terrain(bioloid):
     assert all(np.array_equal(a.position, b.position) for a, b in zip(flat.steps, same.steps))
     with pytest.raises(ConfigurationError, match="reach"):
         plan_walk_footsteps(bioloid, command=(0.1, 0.0, 0.0), nb_steps=4, terrain=SMALL_STAIRS)
+
+
+def test_beyond_the_laid_ground_the_floor_holds_the_soles():
+    terrain = Terrain([Platform(0.3, length=0.5, height=0.05)])
+    plan = small_plan(terrain, nb_steps=90)  # 4.5 m: past the terrain's 3.8 m
+    assert plan.steps[-1].xy[0] > terrain.length
+    assert max(s.position[2] for s in plan.steps) == pytest.approx(0.05)
+    assert all(s.position[2] == 0.0 for s in plan.steps if s.xy[0] > 1.0)

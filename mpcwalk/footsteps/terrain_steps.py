@@ -142,14 +142,14 @@ class TerrainStepPlacer:
             for p in self._places(step, target, support, self.reach.max_stride)
             if self._within_reach(p, support)
         ]
-        own = self.tops.rests_on(support.xy, support.yaw)
-        behind = self.tops.rests_on(swing.xy, swing.yaw)
+        own = self.tops.rests_on(support.xy, support.yaw)  # the support foot's top
+        left = self.tops.rests_on(swing.xy, swing.yaw)  # the top the swing foot leaves
         first: dict = {}  # top -> nearest stride of its places
         for p in valid:
             first[p.top] = min(first.get(p.top, np.inf), p.stride)
         ahead = [top for top, stride in first.items() if top != own and stride > _EPS]
         following = min(ahead, key=lambda top: first[top]) if ahead else None
-        allowed = {own, following, behind}
+        allowed = {own, following, left}
         pool = [p for p in valid if p.top in allowed]
         if not pool:
             raise self._infeasible(k, step, target, support, own)
@@ -163,7 +163,7 @@ class TerrainStepPlacer:
             stalled = best.stride <= _EPS
             if on_next and (self.tops.is_narrow(own) or stalled):
                 return min(on_next, key=self._preference)
-            if stalled and not on_next and behind == own:
+            if stalled and not on_next and left == own:
                 raise self._infeasible(k, step, target, support, own)
         return best
 

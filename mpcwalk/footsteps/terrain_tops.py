@@ -7,7 +7,8 @@ margin), on ground that is that top's plane everywhere under the sole and its ma
 gap between two stones of the same height under it), neither in a pit nor on a slope
 steeper than the soles stand on. On a rough patch the sole rests on the highest block under
 it: every place there holds, and the ones wholly on one block are preferred
-(:attr:`Place.wholly`).
+(:attr:`Place.wholly`). Beyond the laid ground, the floor (at
+:attr:`~mpcwalk.terrain.Terrain.floor`) holds the sole where it is level under it.
 """
 
 import math
@@ -26,8 +27,8 @@ NARROW_KINDS = ("tread", "stone")
 _SPACING = 0.01
 _TOLERANCE = 1e-9
 
-#: A top: ``("top", surface index)``, or ``("rough", feature index)`` for all the blocks and
-#: the ground of one rough patch.
+#: A top: ``("top", surface index)``, ``("rough", feature index)`` for all the blocks and
+#: the ground of one rough patch, or ``("floor", -1)`` for the floor beyond the laid ground.
 Top = tuple[str, int]
 
 
@@ -82,8 +83,11 @@ class TerrainTops:
         return -1
 
     def top(self, surface: int) -> Top:
-        """The top of surface ``surface`` (a rough patch's surfaces are one top)."""
-        owner = self._owners[surface] if surface >= 0 else -1
+        """The top of surface ``surface`` (a rough patch's surfaces are one top; -1: the
+        floor beyond the laid ground)."""
+        if surface < 0:
+            return ("floor", -1)
+        owner = self._owners[surface]
         if owner >= 0 and isinstance(self.terrain.features[owner], RoughPatch):
             return ("rough", owner)
         return ("top", surface)
@@ -94,14 +98,12 @@ class TerrainTops:
 
     def describe(self, top: Top) -> str:
         """The feature ``top`` belongs to, in words (``"Stairs at 0.6 m"``)."""
-        if top[0] == "rough":
-            owner = top[1]
-        else:
-            owner = self._owners[top[1]] if top[1] >= 0 else -1
+        if top[0] == "floor":
+            return f"the floor at {self.terrain.floor:g} m beyond the terrain"
+        owner = top[1] if top[0] == "rough" else self._owners[top[1]]
         if owner < 0:
-            surface = self.terrain.surfaces[top[1]] if top[1] >= 0 else None
-            where = f" from {surface.x_min:.2f} to {surface.x_max:.2f} m" if surface else ""
-            return f"the ground{where}"
+            surface = self.terrain.surfaces[top[1]]
+            return f"the ground from {surface.x_min:.2f} to {surface.x_max:.2f} m"
         feature = self.terrain.features[owner]
         return f"{type(feature).__name__} at {feature.start:g} m"
 
@@ -158,9 +160,13 @@ class TerrainTops:
                         )
                     )
                     continue
-            surface = self.terrain.surface_index(center[0], center[1]) if planar[i] else -1
-            holds = surface >= 0 and self._stands_on(surface)
-            if holds and not self.terrain.surfaces[surface].contains(x[i], y[i]).all():
+            surface = self.terrain.surface_index(center[0], center[1])
+            holds = bool(planar[i]) and (surface < 0 or self._stands_on(surface))
+            if (
+                holds
+                and surface >= 0
+                and not self.terrain.surfaces[surface].contains(x[i], y[i]).all()
+            ):
                 # over the joint of two tops in one plane: the margin to the tops' edges
                 holds = self.support(center, yaw).margin >= self.margin - _TOLERANCE
             top = self.top(surface)
