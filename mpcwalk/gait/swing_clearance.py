@@ -80,8 +80,11 @@ class SwingShape:
         """Share ``h`` of the way, its derivative, the height ``z`` [m] and its derivative
         [m] with respect to the share ``s`` of the single support."""
         span = self.travel_end - self.travel_start
-        h, dh = _quintic((s - self.travel_start) / span)
-        dh /= span
+        if span > 0.0:
+            h, dh = _quintic((s - self.travel_start) / span)
+            dh /= span
+        else:  # no way to travel
+            h, dh = (0.0 if s < self.travel_start else 1.0), 0.0
         if s <= self.rise_end:
             r, dr = _quintic(s / self.rise_end) if self.rise_end > 0.0 else (1.0, 0.0)
             rise = self.apex - self.lift_height
