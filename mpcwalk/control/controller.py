@@ -44,6 +44,7 @@ from mpcwalk.ik.targets import IKResult
 from mpcwalk.ik.whole_body_ik import WholeBodyIK
 from mpcwalk.models.com_state import ComState
 from mpcwalk.robot.robot import Robot
+from mpcwalk.terrain import Terrain
 
 
 class WalkingController:
@@ -81,6 +82,7 @@ class WalkingController:
             arms in their nominal posture.
         heading_hold: Hold the plan's heading (:mod:`mpcwalk.control.heading_hold`); None: on
             with ``feedback`` when the generator follows new footsteps and no stabilizer re-aims.
+        terrain: The ground the robot's map holds: the swing feet clear it (None: the floor).
 
     When the generator's output carries a new schedule (footsteps moved), the controller
     follows it from that tick on.
@@ -109,6 +111,7 @@ class WalkingController:
         arm_swing: float = 0.0,
         balance: BalanceOptions | bool | None = None,
         heading_hold: bool | None = None,
+        terrain: Terrain | None = None,
     ) -> None:
         if not (np.isfinite(control_period) and control_period > 0.0):
             raise ConfigurationError(
@@ -133,6 +136,7 @@ class WalkingController:
             robot.gait.step_height if step_height is None else step_height,
             swing_profile,
             robot.com_height,
+            terrain=terrain,
         )
         self.ik = ik if ik is not None else WholeBodyIK(robot)
         self.feedback = bool(feedback)

@@ -17,6 +17,7 @@ from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.height_profile import height_profile
 from mpcwalk.gait.swing_foot import FeetState, FootState, SwingFootTrajectory
 from mpcwalk.ik.targets import IKTargets
+from mpcwalk.terrain import Terrain
 
 
 @dataclass(frozen=True)
@@ -72,13 +73,20 @@ class GaitReference:
         profile: Swing profile, ``"cosine"`` (paper M) or ``"ctraj"`` (paper A), see
             :class:`~mpcwalk.gait.swing_foot.SwingFootTrajectory`.
         com_height: CoM height above the ground of the feet [m].
+        terrain: The ground the swing feet clear (None: the floor).
 
     Raises:
         ConfigurationError: ``schedule`` is not a ContactSchedule.
     """
 
     def __init__(
-        self, schedule: ContactSchedule, step_height: float, profile: str, com_height: float
+        self,
+        schedule: ContactSchedule,
+        step_height: float,
+        profile: str,
+        com_height: float,
+        *,
+        terrain: Terrain | None = None,
     ) -> None:
         if not isinstance(schedule, ContactSchedule):
             raise ConfigurationError(
@@ -86,7 +94,8 @@ class GaitReference:
             )
         self.initial_schedule = schedule
         self.schedule = schedule
-        self.trajectory = SwingFootTrajectory(schedule, step_height, profile)
+        self.terrain = terrain
+        self.trajectory = SwingFootTrajectory(schedule, step_height, profile, terrain=terrain)
         self.com_height = float(com_height)
 
     def restart(self) -> None:
@@ -105,7 +114,9 @@ class GaitReference:
         ahead, a landing brought forward)."""
         previous = self.trajectory
         self.schedule = schedule
-        self.trajectory = SwingFootTrajectory(schedule, previous.step_height, previous.profile)
+        self.trajectory = SwingFootTrajectory(
+            schedule, previous.step_height, previous.profile, terrain=self.terrain
+        )
         if swing is not None:
             t, side = swing
             self.trajectory.restart_swing(t if now is None else now, previous.foot_poses(t)[side])

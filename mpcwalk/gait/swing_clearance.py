@@ -39,6 +39,8 @@ from mpcwalk.terrain import Terrain
 MIN_CLEARANCE = 0.01
 #: Shares of the rise and of the lowering the travel may overlap, tried in this order.
 OVERLAPS = (1.0, 0.8, 0.6, 0.4, 0.2)
+#: Share of the clearance an overlapping swing keeps (the apex keeps all of it).
+CLEARANCE_KEPT = 0.5
 #: Instants of a swing at which a shape's clearance is checked.
 CHECK_SAMPLES = 301
 #: Height [m] the apex adds to the clearance; an overlapping swing keeps half of it at its
@@ -204,7 +206,10 @@ class SwingClearance:
             points.append(sole_points((*xy, z), yaw, length, width, roll, pitch))
         gaps, exempt = sole_gaps(self.terrain, np.array(points), lift, landing, length, width)
         checked = gaps[~exempt]
-        return bool(checked.size == 0 or checked.min() >= self.clearance + 0.5 * CHECK_MARGIN)
+        return bool(
+            checked.size == 0
+            or checked.min() >= CLEARANCE_KEPT * self.clearance + 0.5 * CHECK_MARGIN
+        )
 
 
 def with_height(state, z: float, dz: float):

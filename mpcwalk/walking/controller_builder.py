@@ -18,6 +18,7 @@ from mpcwalk.gait.gait_defaults import GaitDefaults
 from mpcwalk.generators import generator_class
 from mpcwalk.generators.registry import check_options
 from mpcwalk.robot import Robot
+from mpcwalk.terrain import Terrain
 from mpcwalk.walking.specification import ControllerSpec, PlanSpec
 
 
@@ -54,6 +55,7 @@ def build_controller(
     *,
     control_period: float,
     step_height: float,
+    terrain: Terrain | None = None,
 ) -> WalkingController:
     """The controller of ``spec`` on ``robot``, following ``schedule``.
 
@@ -69,6 +71,8 @@ def build_controller(
     }
     options.update(spec.controller_options)
     options["swing_profile"] = spec.swing_profile
+    if terrain is not None and not terrain.is_flat:
+        options["terrain"] = terrain
     if spec.arm_swing:
         options["arm_swing"] = spec.arm_swing
     stabilizer = build_stabilizer(spec.stabilizers)

@@ -128,7 +128,12 @@ def _walk(
     plan, world, run = spec.plan, spec.world, spec.run
     period = plan.control_period
     walker = build_controller(
-        robot, spec.controller, setup.schedule, control_period=period, step_height=setup.step_height
+        robot,
+        spec.controller,
+        setup.schedule,
+        control_period=period,
+        step_height=setup.step_height,
+        terrain=world.terrain,
     )
     simulation = Simulation(
         robot,

@@ -165,8 +165,19 @@ def set_up_walk(spec: WalkSpec, robot: Robot | None = None) -> WalkSetup:
     nb_steps = plan.nb_steps
     if nb_steps is None and plan.duration is not None:
         nb_steps = max(1, int(round(plan.duration / timing.step_duration)))
+    terrain = world.terrain if world.terrain is not None and not world.terrain.is_flat else None
+    reach = None
+    if terrain is not None:
+        length, width = robot.sole_size
+        reach = TerrainReach.for_leg(length, width, robot.leg_length)
     footsteps = plan_walk_footsteps(
-        robot, command=plan.command, path=plan.path, nb_steps=nb_steps, timing=timing
+        robot,
+        command=plan.command,
+        path=plan.path,
+        nb_steps=nb_steps,
+        timing=timing,
+        terrain=terrain,
+        reach=reach,
     )
     schedule = ContactSchedule(footsteps, FootGeometry(*robot.sole_size))
     generator_class(controller.generator).check_timing(schedule, LIPM(com_height=robot.com_height))
