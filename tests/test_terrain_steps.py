@@ -7,7 +7,14 @@ import numpy as np
 import pytest
 
 from mpcwalk.exceptions import ConfigurationError, InfeasibleStep
-from mpcwalk.footsteps import LegLimits, Side, StepTiming, VelocityPlanner, place_on_terrain
+from mpcwalk.footsteps import (
+    LegLimits,
+    Side,
+    StepTiming,
+    VelocityPlanner,
+    place_on_terrain,
+    terrain_steps,
+)
 from mpcwalk.terrain import (
     FLAT,
     Platform,
@@ -55,15 +62,21 @@ def stride_ahead(plan, k):
     return plan.support_foot(k).to_local(plan.steps[k].xy)[0]
 
 
-def test_the_issue_stairs_and_ramp_are_climbed_one_foot_per_tread():
-    plan = big_plan()
-    assert plan.nb_steps == 51  # the caller's count: 50 steps and the closing one
+def test_the_issue_stairs_and_ramp_are_climbed_two_feet_per_tread():
+    """A 0.15 m rise is more than half the swing rise of a 0.8 m leg (0.2 m): stepping over
+    a tread would lift the swing foot 0.30 m, so the feet meet on every tread."""
+    assert 2 * 0.15 > BIG_REACH.max_swing_rise >= 0.15
+    plan = big_plan(nb_steps=70)
+    assert plan.nb_steps == 71  # the caller's count: 70 steps and the closing one
     assert_on_tops_within_reach(plan, ISSUE, BIG_REACH)
     heights = np.array([s.position[2] for s in plan.steps])
     for flight in ISSUE.features[:2]:
         on = [s for s in plan.steps if flight.start < s.xy[0] < flight.end]
         treads = sorted(math.floor((s.xy[0] - flight.start) / flight.run) for s in on)
-        assert treads == list(range(flight.count - 1))  # one foot per tread, every tread
+        assert treads == sorted(2 * list(range(flight.count - 1)))  # both feet, every tread
+    for k, step in enumerate(plan.steps):  # no swing climbs or drops more than it may
+        lift = plan.stance(k)[step.side]
+        assert abs(step.position[2] - lift.position[2]) <= BIG_REACH.max_swing_rise + 1e-9
     # the run (0.30 m) exceeds the flat stride (0.25 m): climbed with longer strides
     strides = [stride_ahead(plan, k) for k in range(plan.nb_steps)]
     assert max(strides) == pytest.approx(0.30, abs=1e-9)
@@ -83,8 +96,18 @@ def test_the_issue_stairs_and_ramp_are_climbed_one_foot_per_tread():
     assert heights[-1] == pytest.approx(ISSUE.level_after)
 
 
-def test_a_faster_command_keeps_one_foot_per_tread_and_its_stride_elsewhere():
-    plan = big_plan(vx=0.3, nb_steps=24)
+def test_low_stairs_are_climbed_one_foot_per_tread():
+    low = Terrain([Stairs(0.6, 0.08, 0.30, 5), Stairs(2.4, -0.08, 0.30, 5)])
+    plan = big_plan(terrain=low, nb_steps=30)
+    assert_on_tops_within_reach(plan, low, BIG_REACH)
+    for flight in low.features:
+        on = [s for s in plan.steps if flight.start < s.xy[0] < flight.end]
+        treads = sorted(math.floor((s.xy[0] - flight.start) / flight.run) for s in on)
+        assert treads == list(range(flight.count - 1))  # one foot per tread, every tread
+
+
+def test_a_faster_command_keeps_its_stride_off_the_stairs():
+    plan = big_plan(vx=0.3, nb_steps=40)
     assert_on_tops_within_reach(plan, ISSUE, BIG_REACH)
     strides = np.array([stride_ahead(plan, k) for k in range(plan.nb_steps - 1)])
     on_stairs = np.array([0.6 < s.xy[0] < 4.1 for s in plan.steps[:-1]])
@@ -101,7 +124,7 @@ def test_small_stairs_with_a_small_robot():
     for flight in SMALL_STAIRS.features:
         treads = [math.floor((s.xy[0] - flight.start) / flight.run) for s in plan.steps]
         on = [t for s, t in zip(plan.steps, treads) if flight.start < s.xy[0] < flight.end]
-        assert sorted(on) == list(range(flight.count - 1))  # one foot per tread
+        assert sorted(on) == sorted(2 * list(range(flight.count - 1)))  # both feet per tread
 
 
 def test_treads_longer_than_a_stride_hold_both_feet():
@@ -132,18 +155,25 @@ def test_stepping_stones_are_the_only_ground_over_the_pit():
     assert used == set(range(stones.count))
 
 
-def test_on_a_rough_patch_the_sole_rests_on_its_highest_block():
-    terrain = Terrain([RoughPatch(0.3, length=1.0, width=0.6, block=0.1, height=0.02, seed=1)])
-    plan = small_plan(terrain)
-    wholly = 0
-    for step in plan.steps:
-        u, v = np.meshgrid(np.linspace(-0.05, 0.05, 21), np.linspace(-0.03, 0.03, 7))
-        ground = terrain.height(step.xy[0] + u.ravel(), step.xy[1] + v.ravel())
-        assert step.position[2] == pytest.approx(ground.max(), abs=1e-12)
-        on_patch = 0.3 < step.xy[0] < 1.3
-        support = terrain.sole_support(step.xy, step.yaw, 0.10, 0.06)
-        wholly += on_patch and support.margin >= -1e-9
-    assert wholly >= 5  # the places wholly on one block are preferred
+def test_on_a_rough_patch_the_sole_rests_on_its_highest_block(monkeypatch):
+    # blocks longer than the sole (0.15 m against 0.10 m): a sole fits wholly on one
+    terrain = Terrain([RoughPatch(0.3, length=1.0, width=0.6, block=0.15, height=0.02, seed=1)])
+
+    def wholly_on_blocks(plan) -> int:
+        wholly = 0
+        for step in plan.steps:
+            u, v = np.meshgrid(np.linspace(-0.05, 0.05, 21), np.linspace(-0.03, 0.03, 7))
+            ground = terrain.height(step.xy[0] + u.ravel(), step.xy[1] + v.ravel())
+            assert step.position[2] == pytest.approx(ground.max(), abs=1e-12)
+            on_patch = 0.3 < step.xy[0] < 1.3
+            support = terrain.sole_support(step.xy, step.yaw, 0.10, 0.06)
+            wholly += on_patch and support.margin >= -1e-9
+        return wholly
+
+    preferred = wholly_on_blocks(small_plan(terrain))
+    monkeypatch.setattr(terrain_steps, "ROUGH_PREFERENCE", 0.0)
+    indifferent = wholly_on_blocks(small_plan(terrain))
+    assert preferred > indifferent  # the places wholly on one block are preferred
 
 
 def test_a_rise_beyond_the_legs_reach_names_the_step_the_distance_and_the_feature():

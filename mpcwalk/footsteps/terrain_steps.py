@@ -10,15 +10,18 @@ place nearest to it (forward first when two are as near) that
 - holds the sole (:class:`~mpcwalk.footsteps.terrain_tops.TerrainTops`: the whole sole on
   one top with the tread margin, or resting on the highest block of a rough patch, wholly
   on one block preferred by half a sole length);
-- is within ``reach.max_rise`` of the support foot's height and at most
+- is within ``reach.max_rise`` of the support foot's height, within
+  ``reach.max_swing_rise`` of the swing foot's lift-off height (unless the support foot's
+  own rise is larger), and at most
   ``reach.max_stride`` ahead of it (beyond the flat legs' ``max_step_forward``: stairs
   whose run exceeds the flat stride are still climbed) or ``limits.max_step_backward``
   behind;
 - lies on the support foot's top or the next one ahead (no tread or stone is skipped).
 
 On treads and stones, one or two feet per top as the geometry allows: from a tread, the
-landing goes onto the next one when it is within reach (step-over, one foot per tread),
-else the second foot joins the first on its tread; at the end of a top the landing moves
+landing goes onto the next one when it is within reach (step-over, one foot per tread:
+the swing foot then climbs two rises, so high stairs are climbed two feet per tread), else
+the second foot joins the first on its tread; at the end of a top the landing moves
 onto the next one. The closing step joins the support foot on its top. The count of steps
 is the caller's: the robot walks as far as those steps go. The footstep's height is the
 sole centre's on its top, its roll and pitch the top's tilt under its heading
@@ -38,6 +41,14 @@ from mpcwalk.terrain import Terrain, TerrainReach
 #: Preference [share of the sole length] of a place wholly on one block of a rough patch.
 ROUGH_PREFERENCE = 0.5
 _EPS = 1e-9
+
+
+#: Margin to a top's edges [share of the sole length] a landing prefers: on a tread or a stone
+#: the landing moves towards the middle until it has it (a landing error of a few centimetres
+#: must not put a heel on a nose).
+PREFERRED_MARGIN = 0.25
+#: Metres of distance from the nominal landing one metre of missing margin is worth.
+MARGIN_WEIGHT = 2.0
 
 
 def _heading(yaw: float) -> np.ndarray:
@@ -113,19 +124,25 @@ class TerrainStepPlacer:
         strides = (centers - support.xy) @ support_heading
         return self.tops.places(centers, step.yaw, offsets, strides)
 
-    def _within_reach(self, place: Place, support: Footstep) -> bool:
+    def _within_reach(self, place: Place, support: Footstep, swing: Footstep) -> bool:
         rise = abs(place.height - float(support.position[2]))
+        climb = abs(place.height - float(swing.position[2]))
         return (
             place.holds
             and rise <= self.reach.max_rise + _EPS
+            and climb <= max(self.reach.max_swing_rise, rise) + _EPS
             and -self.limits.max_step_backward - _EPS <= place.stride
             and place.stride <= self.reach.max_stride + _EPS
         )
 
-    def _preference(self, place: Place) -> tuple[float, int]:
+    def _preference(self, place: Place, yaw: float = 0.0) -> tuple[float, int]:
         penalty = 0.0
         if place.top[0] == "rough" and not place.wholly:
             penalty = ROUGH_PREFERENCE * self.reach.sole_length
+        if place.top[0] == "top":  # treads, stones, landings: keep the sole off their edges
+            wanted = PREFERRED_MARGIN * self.reach.sole_length
+            margin = self.tops.support(place.center, yaw).margin
+            penalty += MARGIN_WEIGHT * max(0.0, wanted - margin)
         return abs(place.offset) + penalty, 0 if place.offset >= 0.0 else 1
 
     def _choose(
@@ -140,7 +157,7 @@ class TerrainStepPlacer:
         valid = [
             p
             for p in self._places(step, target, support, self.reach.max_stride)
-            if self._within_reach(p, support)
+            if self._within_reach(p, support, swing)
         ]
         own = self.tops.rests_on(support.xy, support.yaw)  # the support foot's top
         left = self.tops.rests_on(swing.xy, swing.yaw)  # the top the swing foot leaves
@@ -153,16 +170,16 @@ class TerrainStepPlacer:
         pool = [p for p in valid if p.top in allowed]
         if not pool:
             raise self._infeasible(k, step, target, support, own)
-        best = min(pool, key=self._preference)
+        best = min(pool, key=lambda p: self._preference(p, step.yaw))
         on_own = [p for p in pool if p.top == own]
         on_next = [p for p in pool if p.top == following]
         progress = float((target - support.xy) @ _heading(support.yaw))
         if closing and on_own:
-            return min(on_own, key=self._preference)
+            return min(on_own, key=lambda p: self._preference(p, step.yaw))
         if progress > _EPS and best.top == own:
             stalled = best.stride <= _EPS
             if on_next and (self.tops.is_narrow(own) or stalled):
-                return min(on_next, key=self._preference)
+                return min(on_next, key=lambda p: self._preference(p, step.yaw))
             if stalled and not on_next and left == own:
                 raise self._infeasible(k, step, target, support, own)
         return best

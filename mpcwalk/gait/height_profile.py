@@ -4,7 +4,9 @@ On a level floor the CoM walks at a constant height ``h`` above the soles and th
 on the soles' plane. When the footsteps climb (stairs, slopes, stones), both follow them:
 
 - **the ground reference** ``z_g(t)`` under the CoM (:meth:`HeightProfile.ground`): at the
-  middle of every single support, the support sole's height; at the middle of every double
+  middle of every single support, the support sole's height (less :data:`DESCENT_LEAN` of
+  the drop when the swing foot steps down: the stance knee bends early so that the swing
+  leg reaches the lower tread); at the middle of every double
   support, the lower sole's height plus :attr:`HeightProfile.lean` times the difference (the
   CoM keeps the lower leg near its nominal bend and folds the upper one); between these
   knots a quintic with zero velocity and acceleration at both ends, so that the CoM height
@@ -23,6 +25,9 @@ import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError
 
+#: Share of the drop of a step down the CoM's ground reference takes in the single support
+#: before it (the stance knee bends so that the swing leg reaches the lower tread).
+DESCENT_LEAN = 0.5
 #: Share of the height difference of two soles the CoM's ground reference rises above the
 #: lower one in double support.
 DEFAULT_LEAN = 0.3
@@ -72,18 +77,25 @@ class HeightProfile:
         self.level = heights[0][0] if self.is_level else float("nan")
         # Ground reference: knots at the middle of each single support and of each run of
         # double supports.
-        groups: list[tuple[float, float, bool, list[float]]] = []
+        groups: list[tuple[float, float, bool, list[float], float]] = []
+        steps = schedule.plan.steps
         for phase, hs in zip(schedule.phases, heights):
             if groups and not phase.single_support and not groups[-1][2]:
-                start, _, _, previous = groups[-1]
-                groups[-1] = (start, phase.end, False, previous if len(previous) == 2 else hs)
+                start, _, _, previous, _ = groups[-1]
+                pair = previous if len(previous) == 2 else hs
+                groups[-1] = (start, phase.end, False, pair, 0.0)
             else:
-                groups.append((phase.start, phase.end, phase.single_support, hs))
+                drop = 0.0  # how far the swing foot of a single support goes down
+                if phase.single_support and 0 <= phase.step_index < len(steps):
+                    drop = max(0.0, hs[0] - float(steps[phase.step_index].position[2]))
+                groups.append((phase.start, phase.end, phase.single_support, hs, drop))
         times, values, plane_times, plane_values = [], [], [], []
-        for start, end, single, hs in groups:
+        for start, end, single, hs, drop in groups:
             low, high = min(hs), max(hs)
             times.append(0.5 * (start + end))
-            values.append(hs[0] if single else low + self.lean * (high - low))
+            # stepping down, the CoM lowers already over the support foot so that the swing
+            # leg reaches the lower tread
+            values.append(hs[0] - DESCENT_LEAN * drop if single else low + self.lean * (high - low))
             if single:
                 plane_times += [start, end]
                 plane_values += [hs[0], hs[0]]
@@ -141,4 +153,4 @@ def height_profile(schedule, com_height: float) -> HeightProfile:
     return profile
 
 
-__all__ = ["DEFAULT_LEAN", "HeightProfile", "height_profile"]
+__all__ = ["DEFAULT_LEAN", "DESCENT_LEAN", "HeightProfile", "height_profile"]

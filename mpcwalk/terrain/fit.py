@@ -13,6 +13,10 @@ from mpcwalk.terrain.terrain import Terrain
 #: in the nominal posture): half a leg lifts the swing sole above the nose with the knee
 #: bent to about 90 deg.
 MAX_RISE_RATIO = 0.5
+#: Largest height a swing foot climbs or drops from its lift-off to its landing, as a share
+#: of the leg length: stepping over a tread (one foot per tread) lifts the foot by two rises,
+#: so above half this share the feet meet on every tread (two feet per tread).
+MAX_SWING_RISE_RATIO = 0.25
 #: Longest stride (sole centre to sole centre) on a terrain as a share of the leg length.
 MAX_STRIDE_RATIO = 0.8
 #: Steepest slope [deg] a flat sole stands on (with the friction of the scene, 1.0).
@@ -64,6 +68,11 @@ class TerrainReach:
     def max_rise(self) -> float:
         """Largest rise of one step [m]."""
         return MAX_RISE_RATIO * self.leg_length
+
+    @property
+    def max_swing_rise(self) -> float:
+        """Largest height [m] a swing foot climbs or drops from lift-off to landing."""
+        return MAX_SWING_RISE_RATIO * self.leg_length
 
     @property
     def min_tread(self) -> float:
@@ -142,4 +151,10 @@ def check_terrain(terrain: Terrain, reach: TerrainReach, robot: str = "the robot
             refuse("a feature at infinity", "give a finite start")
 
 
-__all__ = ["MAX_RISE_RATIO", "MAX_STRIDE_RATIO", "TerrainReach", "check_terrain"]
+__all__ = [
+    "MAX_RISE_RATIO",
+    "MAX_STRIDE_RATIO",
+    "MAX_SWING_RISE_RATIO",
+    "TerrainReach",
+    "check_terrain",
+]
