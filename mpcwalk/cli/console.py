@@ -87,7 +87,21 @@ def summary(result: "WalkResult") -> str:
         f"{m.distance_m:.3f} m (planned {m.distance_planned_m:.3f} m), yaw "
         f"{m.yaw_change_deg:.1f} deg, foot error {_format(m.foot_position_error_cm_mean, ' cm')} "
         f"mean, CoP margin min {format_length(m.cop_margin_min_m)} (loaded soles), real time "
-        f"x{_format(m.real_time_factor)}\n{_sensing(result)}"
+        f"x{_format(m.real_time_factor)}\n{_sensing(result)}{_terrain(result)}"
+    )
+
+
+def _terrain(result: "WalkResult") -> str:
+    """One more line on a terrain: landings in 3D, tread margins, swings, CoM height."""
+    m = result.metrics
+    if m.landing_error_3d_cm_mean is None and m.com_height_error_cm_rms is None:
+        return ""
+    return (
+        f"\nterrain: landing error 3D {_format(m.landing_error_3d_cm_mean, ' cm')} mean, "
+        f"{_format(m.landing_error_3d_cm_max, ' cm')} max; tread margin min "
+        f"{_format(m.tread_margin_cm_min, ' cm')}; swing clearance min "
+        f"{_format(m.swing_clearance_cm_min, ' cm')}, toe stubs {m.toe_stubs}; CoM height "
+        f"error RMS {_format(m.com_height_error_cm_rms, ' cm')}"
     )
 
 
