@@ -131,12 +131,9 @@ class WalkingController:
             )
         self.robot = robot
         self.generator = generator
+        height = robot.gait.step_height if step_height is None else step_height
         self.reference = GaitReference(
-            schedule,
-            robot.gait.step_height if step_height is None else step_height,
-            swing_profile,
-            robot.com_height,
-            terrain=terrain,
+            schedule, height, swing_profile, robot.com_height, terrain=terrain
         )
         self.ik = ik if ik is not None else WholeBodyIK(robot)
         self.feedback = bool(feedback)
