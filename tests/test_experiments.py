@@ -14,7 +14,16 @@ from mpcwalk.experiments.protocol import Experiment, read_config
 from mpcwalk.experiments.reporting import median, runs_text, table
 from mpcwalk.experiments.survival import survived
 
-NAMES = ["paper_m", "paper_a", "robustness", "push_map", "capture_map", "faults", "performance"]
+NAMES = [
+    "paper_m",
+    "paper_a",
+    "robustness",
+    "robustness_terrain",
+    "push_map",
+    "capture_map",
+    "faults",
+    "performance",
+]
 
 
 def test_the_registry_lists_every_experiment_with_its_shipped_configuration(capsys):

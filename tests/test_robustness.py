@@ -2,6 +2,7 @@
 and the quick run of the experiment."""
 
 import csv
+import dataclasses
 import json
 
 import pytest
@@ -11,10 +12,20 @@ from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.experiments.reporting import wilson
 from mpcwalk.experiments.robustness.cells import cell_rows, rate, rate_text
 from mpcwalk.experiments.robustness.config import DEFAULT_MATRIX, load_matrix_config
-from mpcwalk.experiments.robustness.report import worst_cases
-from mpcwalk.experiments.robustness.worlds import FACTORS, robot_worlds
+from mpcwalk.experiments.robustness.goals import goal_checks
+from mpcwalk.experiments.robustness.report import success_table, worst_cases
+from mpcwalk.experiments.robustness.terrain_report import skipped_text, terrain_table
+from mpcwalk.experiments.robustness.terrains import (
+    TERRAIN_APART,
+    TERRAIN_FACTORS,
+    compatible,
+    far_end,
+    layout_text,
+)
+from mpcwalk.experiments.robustness.worlds import FACTORS, plan_matrix, robot_worlds
 from mpcwalk.experiments.survival import survived
 from mpcwalk.sweep import read_rows
+from mpcwalk.terrain import Slope, Stairs, SteppingStones, Terrain, TerrainReach
 
 
 def test_the_full_matrix_and_its_quick_form():
@@ -29,6 +40,97 @@ def test_the_full_matrix_and_its_quick_form():
     assert len({w.seed for w in worlds if w.group != "nominal"}) == len(worlds) - 2
     # the same draws every time: the configuration is the matrix
     assert robot_worlds(full, 0) == worlds
+    combos = [w.factors for w in worlds if w.group == "combination"]
+    assert all(compatible(f) for f in combos)
+    assert any(set(f) & set(TERRAIN_FACTORS) for f in combos)  # terrain goes in combinations
+    for factors in combos:
+        if set(factors) & set(TERRAIN_FACTORS):
+            assert not set(factors) & set(TERRAIN_APART)
+    assert not compatible(["stairs", "roughness"]) and not compatible(["slope", "stones"])
+
+
+def test_the_terrain_part_is_the_whole_matrixs_terrain_worlds():
+    full = load_matrix_config()
+    terrain = load_matrix_config(variant="terrain_only")
+    assert terrain.factors == TERRAIN_FACTORS and terrain.mode == "full"
+    assert list(terrain.robots) == ["bioloid-like", "g1"]
+    assert terrain.robots["g1"].controllers == ("paper-m", "mpc", "mpc-steps")
+    for index in (0, 1):
+        mine = robot_worlds(terrain, index)
+        assert len(mine) == len(TERRAIN_FACTORS) * terrain.levels
+        assert mine == [
+            w for w in robot_worlds(full, index) if w.factors in {(f,) for f in TERRAIN_FACTORS}
+        ]
+    with pytest.raises(ConfigurationError, match="Unknown factor"):
+        robot_worlds(dataclasses.replace(terrain, factors=("lava",)), 0)
+    with pytest.raises(ConfigurationError, match="holds no \\[lava\\] table"):
+        load_matrix_config(variant="lava")
+
+
+def test_the_terrain_worlds_are_built_to_the_robots_size():
+    """Rise and gap a share of the leg length, treads and stones 1.5 sole lengths, a pit 0.2
+    leg lengths deep, the initial stance on level ground, and enough steps to cross."""
+    from conftest import get_robot
+
+    from mpcwalk.footsteps.footstep import StepTiming
+    from mpcwalk.walking.footstep_planning import plan_walk_footsteps
+
+    config = load_matrix_config(variant="terrain_only")
+    cases = [c for c in plan_matrix(config).cases if c.controller.name == "mpc"]
+    assert len(cases) == 2 * len(TERRAIN_FACTORS) * config.levels
+    for case in cases:
+        robot = get_robot(case.robot)
+        leg, (sole, width) = robot.leg_length, robot.sole_size
+        factor, level, terrain = case.label("factor"), case.label("level"), case.world.terrain
+        assert case.label("layout") == layout_text(terrain)
+        first, *rest = terrain.features
+        assert first.start == 0.5
+        if factor == "stairs":
+            up, down = first, rest[0]
+            assert 0.03 <= level <= 0.12
+            assert up.rise == pytest.approx(level * leg, abs=1e-4) == -down.rise
+            assert up.run == down.run == pytest.approx(1.5 * sole, abs=1e-4)
+            assert up.run >= TerrainReach.for_leg(sole, width, leg).min_tread
+            assert isinstance(up, Stairs) and up.count == down.count == 3
+        elif factor == "slope":
+            assert isinstance(first, Slope) and 2.0 <= level <= 10.0
+            assert first.angle == level == -rest[0].angle
+            assert first.length == pytest.approx(2.0 * leg, abs=1e-4)
+        else:
+            assert isinstance(first, SteppingStones) and 0.05 <= level <= 0.2
+            assert first.gap == pytest.approx(level * leg, abs=1e-4)
+            assert first.length == pytest.approx(1.5 * sole, abs=1e-4)
+            assert first.depth == pytest.approx(0.2 * leg, abs=1e-4)
+        # the walk's own footsteps carry both soles beyond the far end
+        plan = plan_walk_footsteps(
+            robot,
+            command=case.plan.command,
+            nb_steps=case.plan.nb_steps,
+            timing=StepTiming(robot.gait.step_duration, robot.gait.double_support_ratio),
+            terrain=terrain,
+            reach=TerrainReach.for_leg(sole, width, leg),
+        )
+        beyond = far_end(terrain) + 0.5 * sole
+        assert min(step.position[0] for step in plan.steps[-3:]) > beyond
+    small = [c for c in cases if c.robot == "bioloid-like" and c.label("factor") == "stairs"]
+    big = [c for c in cases if c.robot == "g1" and c.label("factor") == "stairs"]
+    assert small[0].world.terrain.features[0].run < big[0].world.terrain.features[0].run
+
+
+def test_a_terrain_that_does_not_fit_the_robot_is_skipped_with_its_reason(tmp_path):
+    path = tmp_path / "matrix.toml"
+    text = DEFAULT_MATRIX.read_text().replace("stone_gap = [0.05, 0.2]", "stone_gap = [0.5, 0.6]")
+    path.write_text(text)
+    config = load_matrix_config(path, variant="terrain_only")
+    plan = plan_matrix(config)
+    assert not any(c.label("factor") == "stones" for c in plan.cases)
+    assert len(plan.cases) == 2 * 2 * config.levels * 3  # stairs and slope: 2 robots, 3 each
+    assert [(s["robot"], s["factor"]) for s in plan.skipped] == [
+        ("bioloid-like", "stones")
+    ] * config.levels + [("g1", "stones")] * config.levels
+    assert "The terrain does not fit bioloid-like: a gap of" in plan.skipped[0]["reason"]
+    text = skipped_text(plan.skipped)
+    assert text.startswith("6 world(s) skipped") and "g1, stones at 0.5" in text
 
 
 def test_a_malformed_matrix_is_a_named_error(tmp_path):
@@ -70,6 +172,26 @@ def test_a_stopped_walk_is_no_success_and_the_rates_carry_wilson_intervals():
     assert 0.0 < low < 1 / 3 < high < 1.0
 
 
+def test_the_terrain_cells_and_the_terrain_goal_of_mpc():
+    stairs = layout_text(Terrain([Stairs(0.5, 0.02, 0.15, 3), Stairs(1.1, -0.02, 0.15, 3)]))
+    base = {"layout": stairs, "distance_m": 1.5, "toe_stubs": 0}
+    rows = [
+        _row("mpc", "stairs", "walked", **base),
+        _row("mpc", "stairs", "fell", **{**base, "distance_m": 0.6}),
+        _row("mpc", "mass", "walked"),
+        _row("paper-m", "stairs", "walked", **base),
+    ]
+    assert rate(cell_rows(rows, "bioloid-like", "mpc", "terrain")) == (1, 2)
+    assert rate(cell_rows(rows, "bioloid-like", "mpc", "single")) == (1, 1)
+    [goal] = [c for c in goal_checks(rows) if "terrain" in c["goal"]]
+    assert goal["goal"] == ">= 90 % over the terrain single-factor walks" and not goal["met"]
+    assert goal["value"].startswith("1/2, 50 %") and goal["missed"] == "stairs"
+    table = success_table(rows, "bioloid-like", ["mpc", "paper-m"])
+    assert "**every terrain factor**" in table and "| slope |" not in table
+    text = terrain_table(rows)
+    assert "| bioloid-like | mpc | stairs | 1/2, 50 %" in text and "| 2/2 | 1/2 |" in text
+
+
 def test_the_worst_cases_name_stopped_and_fallen_walks_with_their_command():
     base = {
         "vx": 0.1, "vy": 0.0, "vyaw": 0.0, "nb_steps": 4, "pushes": [], "mass_scale": 1.3,
@@ -91,8 +213,8 @@ def test_the_worst_cases_name_stopped_and_fallen_walks_with_their_command():
 def test_the_quick_robustness_matrix(tmp_path):
     """`mpcwalk experiment run robustness --quick`: a few dozen short walks on local Ray;
     `mpc` walks the nominal world, `paper-m-open` falls under the push it cannot survive
-    (beyond the LIPM's no-step bound), and the report names the reproducing command of each
-    fall; run again, nothing runs."""
+    (beyond the LIPM's no-step bound), `mpc` walks onto each terrain, and the report names
+    the reproducing command of each fall; run again, nothing runs."""
     out = tmp_path / "robustness"
     command = ["experiment", "run", "robustness", "--quick", "--out", str(out), "--no-progress"]
     assert cli_main(command) == 0
@@ -111,7 +233,11 @@ def test_the_quick_robustness_matrix(tmp_path):
 
     assert outcome("mpc", "nominal") == ["walked"]
     assert outcome("paper-m-open", "push") == ["fell"]
+    for factor in TERRAIN_FACTORS:  # each terrain walked on, well past its first edge
+        [row] = [r for r in rows if r["controller"] == "mpc" and r["factor"] == factor]
+        assert row["layout"] and not row["error"] and row["distance_m"] > 0.15
     report = (out / "report.md").read_text()
+    assert "## On terrain" in report and ">= 90 % over the terrain single-factor walks" in report
     assert "mpcwalk experiment run robustness --quick" in report
     assert "## Success rates (95 % Wilson intervals)" in report and "## Worst cases" in report
     assert "mpcwalk walk --robot bioloid-like --controller paper-m-open" in report

@@ -27,6 +27,12 @@ def _robustness() -> Experiment:
     return Robustness()
 
 
+def _robustness_terrain() -> Experiment:
+    from mpcwalk.experiments.robustness.experiment import RobustnessTerrain
+
+    return RobustnessTerrain()
+
+
 def _push_map() -> Experiment:
     from mpcwalk.experiments.push_map.experiment import PushMap
 
@@ -67,6 +73,11 @@ EXPERIMENTS: Registry[Experiment] = Registry(
             "robustness",
             "the robustness matrix: every controller on every robot in perturbed worlds",
             _robustness,
+        ),
+        Entry(
+            "robustness_terrain",
+            "the robustness matrix's terrain factors alone (stairs, slope, stepping stones)",
+            _robustness_terrain,
         ),
         Entry(
             "push_map",

@@ -1,31 +1,40 @@
 """The robustness matrix's cells and their success rates: the goals' robots and
-controllers, which rows make a cell, rates with their Wilson intervals.
+controllers, which rows make a cell (a factor, the nominal walks, every factor on the floor,
+every terrain factor, the combinations), rates with their Wilson intervals.
 Shared by the report (:mod:`mpcwalk.experiments.robustness.report`) and its figures
 (:mod:`mpcwalk.experiments.robustness.plots`)."""
 
 from collections.abc import Iterable, Sequence
 
 from mpcwalk.experiments.reporting import wilson
+from mpcwalk.experiments.robustness.terrains import TERRAIN_FACTORS
 from mpcwalk.experiments.survival import survived
 
 #: The QP controllers of the goals, on the robots of the goals.
 GOAL_CONTROLLERS = ("preview", "mpc", "mpc-steps")
 GOAL_ROBOTS = ("bioloid-like", "g1")
-#: Success rates the goals ask for: over the single-factor walks, over the combinations.
+#: Success rates the goals ask for: over the single-factor walks on the floor, over the
+#: combinations.
 GOAL_SINGLE, GOAL_COMBINATION = 0.95, 0.85
+#: The terrain goal: this share of the terrain factors' single-factor walks walked by
+#: :data:`TERRAIN_CONTROLLER`.
+GOAL_TERRAIN, TERRAIN_CONTROLLER = 0.90, "mpc"
 REFERENCE = "paper-m"
 
 
 def cell_rows(rows: Iterable[dict], robot: str, controller: str, cell: str) -> list[dict]:
     """The rows of one cell: ``cell`` is a factor (its single-factor walks), ``"nominal"``,
-    ``"single"`` (every single-factor walk) or ``"combination"``."""
+    ``"single"`` (every single-factor walk on the floor: of a factor that is no terrain),
+    ``"terrain"`` (every single-factor walk of a terrain factor) or ``"combination"``."""
     out = []
     for row in rows:
         if row["robot"] != robot or row["controller"] != controller:
             continue
-        group = row["group"]
-        if cell in ("single", "combination", "nominal"):
+        group, terrain = row["group"], row["factor"] in TERRAIN_FACTORS
+        if cell in ("combination", "nominal"):
             keep = group == cell
+        elif cell in ("single", "terrain"):
+            keep = group == "single" and terrain == (cell == "terrain")
         else:
             keep = group == "single" and row["factor"] == cell
         if keep:
@@ -46,6 +55,12 @@ def rate_text(successes: int, n: int) -> str:
     return f"{successes}/{n}, {100 * successes / n:.0f} % [{100 * low:.0f}, {100 * high:.0f}]"
 
 
+def present_cells(rows: Sequence[dict], cells: Sequence[str]) -> list[str]:
+    """The ``cells`` (in their order) that hold a walk of ``rows``, any robot or controller."""
+    pairs = {(r["robot"], r["controller"]) for r in rows}
+    return [c for c in cells if any(cell_rows(rows, *pair, c) for pair in pairs)]
+
+
 def robots_and_controllers(rows: Sequence[dict]) -> dict[str, list[str]]:
     """Robot -> its controllers, in the order of the table."""
     out: dict[str, list[str]] = {}
@@ -61,8 +76,11 @@ __all__ = [
     "GOAL_CONTROLLERS",
     "GOAL_ROBOTS",
     "GOAL_SINGLE",
+    "GOAL_TERRAIN",
     "REFERENCE",
+    "TERRAIN_CONTROLLER",
     "cell_rows",
+    "present_cells",
     "rate",
     "rate_text",
     "robots_and_controllers",

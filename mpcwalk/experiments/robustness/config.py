@@ -1,5 +1,7 @@
 """The robustness matrix's configuration: robots, controllers, factors and their ranges,
-read from the ``config.toml`` beside this module (:func:`load_matrix_config`)."""
+read from the ``config.toml`` beside this module (:func:`load_matrix_config`), with one of
+its variant tables over it (``[quick]``: the test suite's; ``[terrain_only]``: the terrain
+factors alone)."""
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -8,6 +10,7 @@ from typing import Any
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.experiments.protocol import config_path, mode_name, read_config
+from mpcwalk.experiments.robustness.terrains import TerrainLayout
 
 DEFAULT_MATRIX = config_path("mpcwalk.experiments.robustness")
 
@@ -36,6 +39,9 @@ class MatrixConfig:
     timeout: float = 900.0
     control_period: float = 0.01
     mode: str = "full"
+    factors: tuple[str, ...] | None = None
+    terrain: TerrainLayout = field(default_factory=TerrainLayout)
+    variant: str | None = None
 
     def settings(self) -> dict[str, Any]:
         """The parameters as JSON (the sweep's fingerprint)."""
@@ -51,41 +57,58 @@ class MatrixConfig:
             "timeout": self.timeout,
             "control_period": self.control_period,
             "mode": self.mode,
+            "factors": None if self.factors is None else list(self.factors),
+            "terrain": vars(self.terrain),
+            "variant": self.variant,
         }
 
 
-def load_matrix_config(path: str | Path = DEFAULT_MATRIX, *, quick: bool = False) -> MatrixConfig:
-    """Read the matrix from TOML; ``quick`` applies its ``[quick]`` table.
+def load_matrix_config(
+    path: str | Path = DEFAULT_MATRIX, *, quick: bool = False, variant: str | None = None
+) -> MatrixConfig:
+    """Read the matrix from TOML; ``variant`` applies the table of that name (e.g.
+    ``"terrain_only"``), then ``quick`` its ``[quick]`` table. A variant table holds
+    ``robots``, ``controllers``, ``nb_steps``, ``levels``, ``combinations``,
+    ``nominal_seeds``, ``factors`` (the factors of the worlds, default: all), ranges of
+    ``[factors]`` and ``terrain``, a table of entries of ``[terrain]``.
 
     Raises:
-        ConfigurationError: A malformed table.
+        ConfigurationError: A malformed table, or a variant the file does not hold.
     """
     data, quick_table = read_config(path, quick=quick)
+    if variant is not None and not isinstance(data.get(variant), dict):
+        raise ConfigurationError(f"The matrix file {path} holds no [{variant}] table.")
+    overlay = {**(data[variant] if variant else {}), **quick_table}
     try:
         robots = {
             name: RobotPlan(
-                tuple(quick_table.get("controllers", plan["controllers"])),
+                tuple(overlay.get("controllers", plan["controllers"])),
                 tuple(float(v) for v in plan["command"]),  # type: ignore[arg-type]
-                int(quick_table.get("nb_steps", plan["nb_steps"])),
+                int(overlay.get("nb_steps", plan["nb_steps"])),
             )
             for name, plan in data["robots"].items()
-            if name in quick_table.get("robots", data["robots"])
+            if name in overlay.get("robots", data["robots"])
         }
         ranges = dict(data["factors"])
-        ranges.update({k: v for k, v in quick_table.items() if k in ranges})
+        ranges.update({k: v for k, v in overlay.items() if k in ranges})
         low, high = data.get("combination_size", (2, 4))
+        factors = overlay.get("factors")
+        layout = overlay.get("terrain", {})
         return MatrixConfig(
             robots=robots,
             ranges=ranges,
             slow_controllers={k: int(v) for k, v in data.get("slow_controllers", {}).items()},
-            levels=int(quick_table.get("levels", data.get("levels", 3))),
-            combinations=int(quick_table.get("combinations", data.get("combinations", 10))),
+            levels=int(overlay.get("levels", data.get("levels", 3))),
+            combinations=int(overlay.get("combinations", data.get("combinations", 10))),
             combination_size=(int(low), int(high)),
-            nominal_seeds=tuple(quick_table.get("nominal_seeds", data.get("nominal_seeds", [0]))),
+            nominal_seeds=tuple(overlay.get("nominal_seeds", data.get("nominal_seeds", [0]))),
             seed=int(data.get("seed", 0)),
             timeout=float(data.get("timeout", 900.0)),
             control_period=float(data.get("control_period", 0.01)),
             mode=mode_name(quick),
+            factors=None if factors is None else tuple(str(f) for f in factors),
+            terrain=TerrainLayout.from_table({**data.get("terrain", {}), **layout}),
+            variant=variant,
         )
     except (KeyError, TypeError, ValueError) as error:
         raise ConfigurationError(f"Malformed matrix file {path}: {error!r}.") from None

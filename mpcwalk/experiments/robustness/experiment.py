@@ -1,4 +1,6 @@
-"""The robustness matrix as an experiment of the registry (``robustness``)."""
+"""The robustness matrix as experiments of the registry: ``robustness`` (every factor) and
+``robustness_terrain`` (the terrain factors alone: the ``[terrain_only]`` table of the
+matrix's ``config.toml``)."""
 
 import json
 from pathlib import Path
@@ -49,14 +51,31 @@ class Robustness(Experiment):
             header=matrix_header(settings, read_runs(out), len(rows)),
             scaling=scaling.read_text() if scaling.exists() else "",
             figures=names,
+            skipped=settings.get("skipped", []),
         )
+
+
+class RobustnessTerrain(Robustness):
+    """The terrain part of the robustness matrix: its terrain factors alone, the same
+    worlds, on the robots and controllers of its ``[terrain_only]`` table."""
+
+    name = "robustness_terrain"
+    summary = "the robustness matrix's terrain factors alone (stairs, slope, stepping stones)"
+    variant = "terrain_only"
+
+    def config(self, *, quick: bool = False) -> MatrixConfig:
+        return load_matrix_config(self.config_file, quick=quick, variant=self.variant)
 
 
 def matrix_header(settings: dict[str, Any], runs: list[dict], nb_cases: int) -> str:
     """The head of the report: the runs that filled the table and what the matrix is."""
-    from mpcwalk.experiments.robustness.worlds import FACTORS
+    from mpcwalk.experiments.robustness.factors import FACTORS
+    from mpcwalk.experiments.robustness.terrains import TERRAIN_APART, TERRAIN_FACTORS
 
     plans = settings["robots"]
+    factors = settings.get("factors") or list(FACTORS)
+    variant = settings.get("variant")
+    terrain = settings.get("terrain")
     robots = ", ".join(
         f"`{name}` ({', '.join(plan['controllers'])}; {plan['nb_steps']} steps at "
         f"{plan['command'][0]:g} m/s)"
@@ -72,17 +91,36 @@ def matrix_header(settings: dict[str, Any], runs: list[dict], nb_cases: int) -> 
         or "none here"
     )
     low, high = settings["combination_size"]
+    selection = (
+        f" This run keeps the worlds of the whole matrix's draws whose factors are all among "
+        f"{', '.join(factors)} (table [{variant}]; a combination only when all its factors "
+        "are)."
+        if variant or settings.get("factors")
+        else ""
+    )
+    on_terrain = ""
+    if terrain and set(factors) & set(TERRAIN_FACTORS):
+        on_terrain = (
+            " Terrain factors (stairs, slope, stones), built to each robot's leg and sole "
+            f"lengths: `{json.dumps(terrain)}` ([terrain]); a world whose terrain does not "
+            "fit the robot is skipped for it (below); a terrain walk takes the steps of its "
+            "own footstep plan on the terrain up to the first two whose soles lie beyond the "
+            f"terrain's far end, and {terrain['exit_steps']} more, whatever the controller; a "
+            f"terrain factor combines with neither {', '.join(TERRAIN_APART)} nor another "
+            "terrain factor."
+        )
     return "\n".join(
         [
-            "# The robustness matrix\n",
+            "# The robustness matrix" + (f" ({variant})" if variant else "") + "\n",
             runs_text(runs, nb_cases),
             f"Mode {settings['mode']}. Robots and controllers: {robots}; the controllers with "
             f"their own timing take the same steps at it ({slow}). Worlds of each robot: the "
             f"nominal one ({len(settings['nominal_seeds'])} seeds), each factor alone at "
             f"{settings['levels']} random levels stratified over its range, and "
             f"{settings['combinations']} random combinations of {low} to {high} factors; every "
-            "controller of the robot walks every world, with the world's seed. Factors "
-            f"({', '.join(FACTORS)}) and ranges: `{json.dumps(settings['ranges'])}` "
+            f"controller of the robot walks every world, with the world's seed.{selection}"
+            f"{on_terrain} Factors ({', '.join(factors)}) and ranges: "
+            f"`{json.dumps(settings['ranges'])}` "
             "(`mpcwalk/experiments/robustness/config.toml`). Every walk runs on the estimator, "
             "with the robot's sensor model (scaled by the noise factor) and one control period "
             "of latency unless the latency factor says otherwise. A walk succeeds when it "
@@ -93,4 +131,4 @@ def matrix_header(settings: dict[str, Any], runs: list[dict], nb_cases: int) -> 
     )
 
 
-__all__ = ["Robustness", "matrix_header"]
+__all__ = ["Robustness", "RobustnessTerrain", "matrix_header"]

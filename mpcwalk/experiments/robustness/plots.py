@@ -18,6 +18,7 @@ from mpcwalk.experiments.robustness.cells import (
     GOAL_ROBOTS,
     REFERENCE,
     cell_rows,
+    present_cells,
     rate,
     robots_and_controllers,
 )
@@ -41,10 +42,12 @@ def _annotated(ax, grid: np.ndarray, counts: np.ndarray):
 
 
 def plot_success_heatmap(rows: Sequence[dict], robot: str, controllers: Sequence[str]):
-    """Success [%] of each controller under each factor alone, nominal and combinations."""
+    """Success [%] of each controller under each factor alone, nominal and combinations
+    (the cells that hold a walk of the robot)."""
     import matplotlib.pyplot as plt
 
-    cells = ("nominal", *FACTORS, "combination")
+    mine = [r for r in rows if r["robot"] == robot]
+    cells = present_cells(mine, ("nominal", *FACTORS, "combination"))
     grid = np.full((len(controllers), len(cells)), np.nan)
     counts = np.zeros(grid.shape, dtype=int)
     for i, controller in enumerate(controllers):
@@ -63,26 +66,29 @@ def plot_success_heatmap(rows: Sequence[dict], robot: str, controllers: Sequence
 
 
 def plot_pair_heatmap(rows: Sequence[dict], controllers: Sequence[str], robots, title: str):
-    """Success [%] of the combination walks in which both factors changed."""
+    """Success [%] of the combination walks in which both factors changed (the factors of
+    the combinations)."""
     import matplotlib.pyplot as plt
 
-    grid = np.full((len(FACTORS), len(FACTORS)), np.nan)
-    counts = np.zeros(grid.shape, dtype=int)
     combos = [
         r
         for r in rows
         if r["group"] == "combination" and r["controller"] in controllers and r["robot"] in robots
     ]
-    for i, a in enumerate(FACTORS):
-        for j, b in enumerate(FACTORS):
+    changed = {f for r in combos for f in str(r["factor"]).split("+")}
+    factors = [f for f in FACTORS if f in changed]
+    grid = np.full((len(factors), len(factors)), np.nan)
+    counts = np.zeros(grid.shape, dtype=int)
+    for i, a in enumerate(factors):
+        for j, b in enumerate(factors):
             both = [r for r in combos if {a, b} <= set(str(r["factor"]).split("+"))]
             if both:
                 k, n = rate(both)
                 grid[i, j], counts[i, j] = k / n, n
     fig, ax = plt.subplots(figsize=(8.0, 6.5))
     image = _annotated(ax, grid, counts)
-    ax.set_xticks(range(len(FACTORS)), FACTORS, rotation=45, ha="right", fontsize=8)
-    ax.set_yticks(range(len(FACTORS)), FACTORS, fontsize=8)
+    ax.set_xticks(range(len(factors)), factors, rotation=45, ha="right", fontsize=8)
+    ax.set_yticks(range(len(factors)), factors, fontsize=8)
     ax.set_title(title, fontsize=9)
     fig.colorbar(image, ax=ax, fraction=0.03)
     fig.tight_layout()
@@ -92,12 +98,17 @@ def plot_pair_heatmap(rows: Sequence[dict], controllers: Sequence[str], robots, 
 def plot_levels(rows: Sequence[dict], groups: dict[str, tuple[Sequence[str], Sequence[str]]]):
     """Per factor, each single-factor walk's outcome against its level (1: walked, 0: fell),
     one marker per group of controllers (jittered), and the group's success over the level's
-    lower and upper half."""
+    lower and upper half; the factors of the single-factor walks, five a line."""
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(2, 5, figsize=(15.0, 6.0))
+    singles = {str(r["factor"]) for r in rows if r["group"] == "single"}
+    factors = [f for f in FACTORS if f in singles] or list(FACTORS)
+    lines = -(-len(factors) // 5)
+    fig, axes = plt.subplots(lines, 5, figsize=(15.0, 3.0 * lines), squeeze=False)
+    for ax in axes.flat[len(factors) :]:
+        ax.set_visible(False)
     rng = np.random.default_rng(0)
-    for ax, factor in zip(axes.flat, FACTORS):
+    for ax, factor in zip(axes.flat, factors):
         for (label, (controllers, robots)), marker in zip(groups.items(), "os^"):
             mine = [
                 r

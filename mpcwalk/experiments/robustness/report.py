@@ -1,5 +1,7 @@
-"""The report of the robustness matrix: success rates with Wilson intervals, the goals, the
-worst cases with the command that reruns each, and the quality of the walks that succeed.
+"""The report of the robustness matrix: success rates with Wilson intervals, the goals
+(:mod:`~mpcwalk.experiments.robustness.goals`), the terrain walks and the skipped worlds
+(:mod:`~mpcwalk.experiments.robustness.terrain_report`), the worst cases with the command
+that reruns each, and the quality of the walks that succeed.
 
 A walk *succeeds* when it ran (no error) and survived
 (:func:`~mpcwalk.experiments.survival.survived`: it neither fell nor was stopped by the
@@ -9,105 +11,55 @@ matrix's results table (:func:`mpcwalk.sweep.read_rows`); :func:`write_report` w
 """
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 from mpcwalk.experiments.reporting import median, table
 from mpcwalk.experiments.robustness.cells import (
-    GOAL_COMBINATION,
     GOAL_CONTROLLERS,
     GOAL_ROBOTS,
-    GOAL_SINGLE,
     REFERENCE,
     cell_rows,
+    present_cells,
     rate,
     rate_text,
     robots_and_controllers,
 )
-from mpcwalk.experiments.robustness.worlds import FACTORS, LEVEL_UNITS
+from mpcwalk.experiments.robustness.factors import FACTORS, LEVEL_UNITS
+from mpcwalk.experiments.robustness.goals import goal_checks, goals_text
+from mpcwalk.experiments.robustness.terrain_report import (
+    skipped_text,
+    terrain_command,
+    terrain_table,
+    terrain_words,
+    write_terrain_files,
+)
 from mpcwalk.experiments.survival import survived
 
-CELLS = ("nominal", *FACTORS, "single", "combination")
+CELLS = ("nominal", *FACTORS, "single", "terrain", "combination")
+TERRAIN_NOTE = (
+    "Reached it, crossed it: the measured CoM travelled at least to the terrain's first "
+    "edge, to its far end. A terrain walk below reruns from this folder: its command reads "
+    "its terrain from `terrains/ROBOT-SEED.toml`.\n"
+)
 
 
 def success_table(rows: Sequence[dict], robot: str, controllers: Sequence[str]) -> str:
-    """Success per factor (a line) and controller (a column), with 95 % Wilson intervals."""
-    titles = {"single": "**every single factor**", "combination": "**combinations**"}
+    """Success per factor (a line) and controller (a column), with 95 % Wilson intervals;
+    the cells that hold a walk."""
+    titles = {
+        "single": "**every single factor on the floor**",
+        "terrain": "**every terrain factor**",
+        "combination": "**combinations**",
+    }
     lines = []
-    for cell in CELLS:
+    for cell in present_cells(rows, CELLS):
         entry: dict[str, Any] = {"cell": titles.get(cell, cell)}
         for controller in controllers:
             entry[controller] = rate_text(*rate(cell_rows(rows, robot, controller, cell)))
         lines.append(entry)
     return table(lines, [("cell", "factor", 0)] + [(c, c, 0) for c in controllers])
-
-
-def goal_checks(rows: Sequence[dict]) -> list[dict[str, Any]]:
-    """The goals of the QP controllers on the goals' robots: >= 95 % over the single-factor
-    walks, >= 85 % over the combinations, never below ``paper-m`` in any cell; each with
-    what missed it (the factors, the cells, the case identifiers of the falls)."""
-    checks = []
-    for robot in GOAL_ROBOTS:
-        for controller in GOAL_CONTROLLERS:
-            mine = [r for r in rows if r["robot"] == robot and r["controller"] == controller]
-            if not mine:
-                continue
-            for cell, goal in (("single", GOAL_SINGLE), ("combination", GOAL_COMBINATION)):
-                walks = cell_rows(rows, robot, controller, cell)
-                k, n = rate(walks)
-                failed = [r for r in walks if not survived(r)]
-                where = sorted({r["factor"] for r in failed})
-                checks.append(
-                    {
-                        "robot": robot,
-                        "controller": controller,
-                        "goal": f">= {100 * goal:.0f} % over the "
-                        + ("single-factor walks" if cell == "single" else "combinations"),
-                        "value": rate_text(k, n),
-                        "met": n > 0 and k / n >= goal,
-                        "missed": ", ".join(where),
-                        "cases": ", ".join(str(r["case_id"]) for r in failed),
-                    }
-                )
-            if not [r for r in rows if r["robot"] == robot and r["controller"] == REFERENCE]:
-                continue  # no reference to compare with
-            below = []
-            for cell in ("nominal", *FACTORS, "combination"):
-                k, n = rate(cell_rows(rows, robot, controller, cell))
-                kr, nr = rate(cell_rows(rows, robot, REFERENCE, cell))
-                if n and nr and k / n < kr / nr:
-                    below.append(f"{cell} ({k}/{n} < {kr}/{nr})")
-            checks.append(
-                {
-                    "robot": robot,
-                    "controller": controller,
-                    "goal": f"never below {REFERENCE} in any cell",
-                    "value": f"{len(below)} cell(s) below",
-                    "met": not below,
-                    "missed": "; ".join(below),
-                    "cases": "",
-                }
-            )
-    return checks
-
-
-def goals_text(checks: Sequence[dict]) -> str:
-    """The goal checks as a table."""
-    if not checks:
-        return "No QP controller of the goals' robots in this run.\n"
-    return table(
-        [{**c, "met": "met" if c["met"] else "**NOT met**"} for c in checks],
-        [
-            ("robot", "robot", 0),
-            ("controller", "controller", 0),
-            ("goal", "goal", 0),
-            ("value", "measured", 0),
-            ("met", "", 0),
-            ("missed", "missed at (factors / cells)", 0),
-            ("cases", "falls (case ids, in the worst cases below and in results.csv)", 0),
-        ],
-    )
 
 
 def world_text(row: dict[str, Any]) -> str:
@@ -132,14 +84,17 @@ def world_text(row: dict[str, Any]) -> str:
             parts.append(f"{label}{row[key]:g}")
     if row.get("com_dx") or row.get("com_dy"):
         parts.append(f"com ({100 * row['com_dx']:.1f}, {100 * row['com_dy']:.1f}) cm")
+    if row.get("layout"):
+        parts.append(terrain_words(row))
     return "; ".join(parts) or "nominal"
 
 
-def worst_cases(rows: Sequence[dict], *, limit: int = 30) -> str:
-    """The walks that did not survive (fell, stopped, or could not run), the goals' first, earliest falls first, each
-    with the ``mpcwalk walk`` command that reruns it."""
-    from mpcwalk.walking.sweep_cases import spec_of_row
-
+def worst_cases(
+    rows: Sequence[dict], *, limit: int = 30, terrain_files: Mapping[str, str] | None = None
+) -> str:
+    """The walks that did not survive (fell, stopped, or could not run), the goals' first,
+    earliest falls first, each with the ``mpcwalk walk`` command that reruns it (a terrain
+    walk's with its terrain file, ``terrain_files``: case id -> path in the folder)."""
     failed = [row for row in rows if not survived(row)]
     if not failed:
         return "Every walk survived.\n"
@@ -150,7 +105,6 @@ def worst_cases(rows: Sequence[dict], *, limit: int = 30) -> str:
 
     lines = []
     for row in sorted(failed, key=key)[:limit]:
-        case = spec_of_row(row)
         if row.get("error"):
             what = row["error"]
         elif row.get("outcome") == "fell":
@@ -160,7 +114,7 @@ def worst_cases(rows: Sequence[dict], *, limit: int = 30) -> str:
         lines.append(
             f"- `{row['case_id']}` {row['robot']}, {row['controller']}, {row['factor']}: "
             f"{world_text(row)}; {what}, {row['steps_completed']}/{row['steps_planned']} steps\n"
-            f"  `{case.command_line()}`"
+            f"  `{terrain_command(row, (terrain_files or {}).get(str(row['case_id'])))}`"
         )
     more = len(failed) - len(lines)
     tail = f"\n\n({more} more in `results.csv`.)" if more > 0 else ""
@@ -206,9 +160,14 @@ def quality_table(rows: Sequence[dict]) -> str:
     )
 
 
-def levels_text() -> str:
-    """What the level of each factor is."""
-    return "; ".join(f"{factor}: {unit}" for factor, unit in LEVEL_UNITS.items())
+def levels_text(rows: Sequence[dict] = ()) -> str:
+    """What the level of each factor is (of the factors of ``rows``; none: every factor)."""
+    present = {str(r["factor"]) for r in rows}
+    return "; ".join(
+        f"{factor}: {unit}"
+        for factor, unit in LEVEL_UNITS.items()
+        if not present or factor in present
+    )
 
 
 def write_report(
@@ -218,9 +177,12 @@ def write_report(
     header: str,
     scaling: str = "",
     figures: Sequence[str] = (),
+    skipped: Sequence[Mapping[str, Any]] = (),
 ) -> Path:
     """Write ``report.md`` into ``out_dir`` (showing the ``figures``, file names of
-    :func:`~mpcwalk.experiments.robustness.plots.write_figures`); returns its path."""
+    :func:`~mpcwalk.experiments.robustness.plots.write_figures`; the worlds ``skipped``
+    for their terrain; the terrain files of the terrain walks that did not survive, in
+    ``terrains/``); returns its path."""
     out = Path(out_dir)
     names = list(figures)
     parts = [header, "## Goals of the QP controllers\n", goals_text(goal_checks(rows))]
@@ -228,12 +190,16 @@ def write_report(
     parts.append("## Success rates (95 % Wilson intervals)\n")
     for robot, controllers in by_robot.items():
         parts += [f"### {robot}\n", success_table(rows, robot, controllers)]
+    parts += [f"Levels: {levels_text(rows)}.\n"]
+    terrain = terrain_table(rows)
+    if terrain or skipped:
+        parts += ["## On terrain\n", terrain, skipped_text(skipped), TERRAIN_NOTE]
+    files = write_terrain_files(out, [r for r in rows if not survived(r)])
     parts += [
-        f"Levels: {levels_text()}.\n",
         "## The walks that succeed\n",
         quality_table(rows),
         "## Worst cases\n",
-        worst_cases(rows),
+        worst_cases(rows, terrain_files=files),
     ]
     if names:
         parts += ["## Figures\n", "\n".join(f"![{n}]({n})" for n in names) + "\n"]
