@@ -14,7 +14,11 @@ from mpcwalk.experiments.robustness.cells import cell_rows, rate, rate_text
 from mpcwalk.experiments.robustness.config import DEFAULT_MATRIX, load_matrix_config
 from mpcwalk.experiments.robustness.goals import goal_checks
 from mpcwalk.experiments.robustness.report import success_table, worst_cases
-from mpcwalk.experiments.robustness.terrain_report import skipped_text, terrain_table
+from mpcwalk.experiments.robustness.terrain_report import (
+    skipped_text,
+    terrain_goal_text,
+    terrain_table,
+)
 from mpcwalk.experiments.robustness.terrains import (
     TERRAIN_APART,
     TERRAIN_FACTORS,
@@ -81,6 +85,8 @@ def test_the_terrain_worlds_are_built_to_the_robots_size():
         leg, (sole, width) = robot.leg_length, robot.sole_size
         factor, level, terrain = case.label("factor"), case.label("level"), case.world.terrain
         assert case.label("layout") == layout_text(terrain)
+        approach, cross = case.label("terrain_steps")
+        assert 0 < approach < cross == case.plan.nb_steps - config.terrain.exit_steps
         first, *rest = terrain.features
         assert first.start == 0.5
         if factor == "stairs":
@@ -107,8 +113,9 @@ def test_the_terrain_worlds_are_built_to_the_robots_size():
 @pytest.mark.slow
 def test_the_terrain_walks_take_the_steps_that_cross_their_terrain():
     """The footsteps of each terrain walk of the terrain part, as the walk plans them, carry
-    both soles beyond the terrain's far end (a terrain on which the planner finds no place
-    for a landing is a walk that cannot run, left out here)."""
+    both soles beyond the terrain's far end by the steps its label says cross it (a terrain
+    on which the planner finds no place for a landing is a walk that cannot run, left out
+    here)."""
     from conftest import get_robot
 
     from mpcwalk.exceptions import InfeasibleStep
@@ -123,7 +130,8 @@ def test_the_terrain_walks_take_the_steps_that_cross_their_terrain():
         except InfeasibleStep:
             continue
         beyond = far_end(case.world.terrain) + 0.5 * get_robot(case.robot).sole_size[0]
-        assert min(step.position[0] for step in steps[-3:]) > beyond, case.label("layout")
+        cross = case.label("terrain_steps")[1]  # the steps that cross, at the nominal stride
+        assert min(step.position[0] for step in steps[cross - 2 : cross]) > beyond, case
         crossed += 1
     assert crossed >= len(cases) - 3
 
@@ -185,10 +193,10 @@ def test_a_stopped_walk_is_no_success_and_the_rates_carry_wilson_intervals():
 
 def test_the_terrain_cells_and_the_terrain_goal_of_mpc():
     stairs = layout_text(Terrain([Stairs(0.5, 0.02, 0.15, 3), Stairs(1.1, -0.02, 0.15, 3)]))
-    base = {"layout": stairs, "distance_m": 1.5, "toe_stubs": 0}
+    base = {"layout": stairs, "terrain_steps": [10, 20], "steps_completed": 25, "toe_stubs": 0}
     rows = [
         _row("mpc", "stairs", "walked", **base),
-        _row("mpc", "stairs", "fell", **{**base, "distance_m": 0.6}),
+        _row("mpc", "stairs", "fell", **{**base, "steps_completed": 12}),
         _row("mpc", "mass", "walked"),
         _row("paper-m", "stairs", "walked", **base),
     ]
@@ -199,6 +207,10 @@ def test_the_terrain_cells_and_the_terrain_goal_of_mpc():
     assert goal["value"].startswith("1/2, 50 %") and goal["missed"] == "stairs"
     table = success_table(rows, "bioloid-like", ["mpc", "paper-m"])
     assert "**every terrain factor**" in table and "| slope |" not in table
+    assert terrain_goal_text(rows) == (
+        "- bioloid-like: `mpc` walked 1/2 (50 %) of the terrain single-factor walks; the goal "
+        "(>= 90 %) is **not met**.\n"
+    )
     text = terrain_table(rows)
     assert "| bioloid-like | mpc | stairs | 1/2, 50 %" in text and "| 2/2 | 1/2 |" in text
 

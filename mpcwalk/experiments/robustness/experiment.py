@@ -103,9 +103,10 @@ def matrix_header(settings: dict[str, Any], runs: list[dict], nb_cases: int) -> 
         on_terrain = (
             " Terrain factors (stairs, slope, stones), built to each robot's leg and sole "
             f"lengths: `{json.dumps(terrain)}` ([terrain]); a world whose terrain does not "
-            "fit the robot is skipped for it (below); a terrain walk takes the steps of its "
-            "own footstep plan on the terrain up to the first two whose soles lie beyond the "
-            f"terrain's far end, and {terrain['exit_steps']} more, whatever the controller; a "
+            "fit the robot is skipped for it (below); a terrain walk takes, whatever the "
+            "controller, the steps that carry it over the terrain: the distance to its far "
+            "end and a sole length more over the nominal stride (vx times the step duration; "
+            f"the footsteps on a terrain go further), and {terrain['exit_steps']} more; a "
             f"terrain factor combines with neither {', '.join(TERRAIN_APART)} nor another "
             "terrain factor."
         )

@@ -31,6 +31,7 @@ from mpcwalk.experiments.robustness.goals import goal_checks, goals_text
 from mpcwalk.experiments.robustness.terrain_report import (
     skipped_text,
     terrain_command,
+    terrain_goal_text,
     terrain_table,
     terrain_words,
     write_terrain_files,
@@ -39,8 +40,9 @@ from mpcwalk.experiments.survival import survived
 
 CELLS = ("nominal", *FACTORS, "single", "terrain", "combination")
 TERRAIN_NOTE = (
-    "Reached it, crossed it: the measured CoM travelled at least to the terrain's first "
-    "edge, to its far end. A terrain walk below reruns from this folder: its command reads "
+    "Reached it, crossed it: the walk completed the steps that put a foot beyond the "
+    "terrain's first edge, both beyond its far end, at the nominal stride (the footsteps on "
+    "a terrain go further). A terrain walk below reruns from this folder: its command reads "
     "its terrain from `terrains/ROBOT-SEED.toml`.\n"
 )
 
@@ -105,15 +107,16 @@ def worst_cases(
 
     lines = []
     for row in sorted(failed, key=key)[:limit]:
+        steps = f", {row['steps_completed']}/{row['steps_planned']} steps"
         if row.get("error"):
-            what = row["error"]
+            what, steps = f"could not run: {row['error']}", ""
         elif row.get("outcome") == "fell":
             what = f"fell at {row['fall_time_s']:.1f} s ({row['fall_reason']})"
         else:
             what = f"{row.get('outcome')} by the controller"
         lines.append(
             f"- `{row['case_id']}` {row['robot']}, {row['controller']}, {row['factor']}: "
-            f"{world_text(row)}; {what}, {row['steps_completed']}/{row['steps_planned']} steps\n"
+            f"{world_text(row)}; {what}{steps}\n"
             f"  `{terrain_command(row, (terrain_files or {}).get(str(row['case_id'])))}`"
         )
     more = len(failed) - len(lines)
@@ -193,7 +196,8 @@ def write_report(
     parts += [f"Levels: {levels_text(rows)}.\n"]
     terrain = terrain_table(rows)
     if terrain or skipped:
-        parts += ["## On terrain\n", terrain, skipped_text(skipped), TERRAIN_NOTE]
+        parts += ["## On terrain\n", terrain_goal_text(rows), terrain]
+        parts += [skipped_text(skipped), TERRAIN_NOTE]
     files = write_terrain_files(out, [r for r in rows if not survived(r)])
     parts += [
         "## The walks that succeed\n",

@@ -11,12 +11,19 @@ from pathlib import Path
 from typing import Any
 
 from mpcwalk.experiments.reporting import median, table
-from mpcwalk.experiments.robustness.cells import rate, rate_text, robots_and_controllers
+from mpcwalk.experiments.robustness.cells import (
+    GOAL_TERRAIN,
+    TERRAIN_CONTROLLER,
+    cell_rows,
+    rate,
+    rate_text,
+    robots_and_controllers,
+)
 from mpcwalk.experiments.robustness.terrains import (
     LAYOUT_LABEL,
+    MILESTONES_LABEL,
     TERRAIN_FACTORS,
     describe,
-    far_end,
     terrain_of_text,
 )
 from mpcwalk.terrain import terrain_to_toml
@@ -66,9 +73,9 @@ def _min(values) -> float | None:
 
 def terrain_table(rows: Sequence[dict[str, Any]]) -> str:
     """The single-factor terrain walks per robot, controller and terrain factor: the walks
-    that walked, that reached the terrain and that crossed it (the measured CoM travelled at
-    least to its first edge, to its far end), and the terrain metrics; empty without a
-    terrain walk."""
+    that walked, that reached the terrain and that crossed it (completed the steps that put
+    a foot beyond its first edge, both beyond its far end: the ``terrain_steps`` label), and
+    the terrain metrics; empty without a terrain walk."""
     lines = []
     for robot, controllers in robots_and_controllers(rows).items():
         for controller in controllers:
@@ -83,10 +90,9 @@ def terrain_table(rows: Sequence[dict[str, Any]]) -> str:
                 ]
                 if not mine:
                     continue
-                terrains = [terrain_of_text(r[LAYOUT_LABEL]) for r in mine]
-                travelled = [float(r.get("distance_m") or 0.0) for r in mine]
-                reached = sum(d >= t.features[0].start for d, t in zip(travelled, terrains))
-                crossed = sum(d >= far_end(t) for d, t in zip(travelled, terrains))
+                done = [(int(r.get("steps_completed") or 0), r[MILESTONES_LABEL]) for r in mine]
+                reached = sum(steps >= approach for steps, (approach, _) in done)
+                crossed = sum(steps >= cross for steps, (_, cross) in done)
                 lines.append(
                     {
                         "robot": robot,
@@ -122,6 +128,21 @@ def terrain_table(rows: Sequence[dict[str, Any]]) -> str:
     )
 
 
+def terrain_goal_text(rows: Sequence[dict[str, Any]]) -> str:
+    """The share of the terrain single-factor walks ``mpc`` walked, per robot, against its
+    goal (>= 90 %); empty without such walks."""
+    lines = []
+    for robot in robots_and_controllers(rows):
+        k, n = rate(cell_rows(rows, robot, TERRAIN_CONTROLLER, "terrain"))
+        if n:
+            met = "met" if k / n >= GOAL_TERRAIN else "**not met**"
+            lines.append(
+                f"- {robot}: `{TERRAIN_CONTROLLER}` walked {k}/{n} ({100 * k / n:.0f} %) of the "
+                f"terrain single-factor walks; the goal (>= {100 * GOAL_TERRAIN:.0f} %) is {met}."
+            )
+    return "\n".join(lines) + "\n" if lines else ""
+
+
 def skipped_text(skipped: Sequence[Mapping[str, Any]]) -> str:
     """The worlds skipped because their terrain does not fit the robot, with the reason."""
     if not skipped:
@@ -143,6 +164,7 @@ __all__ = [
     "TERRAIN_DIR",
     "skipped_text",
     "terrain_command",
+    "terrain_goal_text",
     "terrain_table",
     "terrain_words",
     "write_terrain_files",

@@ -14,10 +14,10 @@ height above the soles), the ramps' angle in degrees. The rest of each terrain i
   stance plus a sole width each side, over a pit ``pit_depth`` leg lengths deep.
 
 Each starts ``start`` m ahead of the robot (its initial stance stays on the level ground).
-A walk on a terrain takes the steps that cross it and a few more (:func:`terrain_steps`). A terrain factor
-goes with neither the ground's tilt nor its bumps (the simulator refuses a terrain on a rough
-floor), nor the random command (which would walk the robot away from the terrain or across
-it), nor another terrain factor (:func:`compatible`).
+A walk on a terrain takes the steps that cross it and a few more (:func:`terrain_steps`).
+A terrain factor goes with neither the ground's tilt nor its bumps (the simulator refuses a
+terrain on a rough floor), nor the random command (which would walk the robot away from the
+terrain or across it), nor another terrain factor (:func:`compatible`).
 """
 
 import json
@@ -45,6 +45,9 @@ LEVEL_KEYS = {"stairs": "stair_rise", "slope": "slope_angle", "stones": "stone_g
 TERRAIN_APART = ("command", "tilt", "roughness")
 #: The label of a terrain walk holding its terrain (the tables of a terrain file, as JSON).
 LAYOUT_LABEL = "layout"
+#: The label of a terrain walk holding its milestones, (steps that put a foot beyond the
+#: terrain's first edge, steps that carry both beyond its far end), at the nominal stride.
+MILESTONES_LABEL = "terrain_steps"
 
 
 @dataclass(frozen=True)
@@ -149,6 +152,21 @@ def far_end(terrain: Terrain) -> float:
     return max(feature.end for feature in terrain.features)
 
 
+def _stride(robot: Any, command: Sequence[float], timing: Any) -> float:
+    """The nominal stride [m] (vx times the step duration).
+
+    Raises:
+        ConfigurationError: A command that does not walk forward.
+    """
+    stride = float(command[0]) * float(timing.step_duration)
+    if stride <= 0.0:
+        raise ConfigurationError(
+            f"A terrain world needs a forward command to carry {robot.name} over the terrain, "
+            f"got vx = {command[0]!r} m/s; give the robot a positive vx in [robots.{robot.name}]."
+        )
+    return stride
+
+
 def terrain_steps(
     terrain: Terrain, robot: Any, command: Sequence[float], timing: Any, exit_steps: int
 ) -> int:
@@ -163,14 +181,24 @@ def terrain_steps(
     Raises:
         ConfigurationError: A command that does not walk forward.
     """
-    stride = float(command[0]) * float(timing.step_duration)
-    if stride <= 0.0:
-        raise ConfigurationError(
-            f"A terrain world needs a forward command to carry {robot.name} over the terrain, "
-            f"got vx = {command[0]!r} m/s; give the robot a positive vx in [robots.{robot.name}]."
-        )
     distance = far_end(terrain) + float(robot.sole_size[0])
-    return int(math.ceil(distance / stride - 1e-9)) + exit_steps
+    return int(math.ceil(distance / _stride(robot, command, timing) - 1e-9)) + exit_steps
+
+
+def milestones(
+    terrain: Terrain, robot: Any, command: Sequence[float], timing: Any, exit_steps: int
+) -> tuple[int, int]:
+    """(Steps after which a foot has landed beyond the terrain's first edge, steps after
+    which both have crossed its far end), at the nominal stride (:func:`terrain_steps`; the
+    n-th step of a walk lands n strides ahead of the start): a walk that completed the
+    first reached the terrain, one that completed the second crossed it.
+
+    Raises:
+        ConfigurationError: A command that does not walk forward.
+    """
+    first = min(feature.start for feature in terrain.features)
+    approach = int(math.ceil(first / _stride(robot, command, timing) - 1e-9))
+    return approach, terrain_steps(terrain, robot, command, timing, exit_steps) - exit_steps
 
 
 def layout_text(terrain: Terrain) -> str:
@@ -213,6 +241,7 @@ def describe(terrain: Terrain) -> str:
 __all__ = [
     "LAYOUT_LABEL",
     "LEVEL_KEYS",
+    "MILESTONES_LABEL",
     "TERRAIN_APART",
     "TERRAIN_FACTORS",
     "TerrainLayout",
@@ -220,6 +249,7 @@ __all__ = [
     "describe",
     "far_end",
     "layout_text",
+    "milestones",
     "terrain_of",
     "terrain_of_text",
     "terrain_steps",

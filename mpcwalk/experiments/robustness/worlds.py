@@ -24,7 +24,9 @@ from mpcwalk.experiments.robustness.factors import (
 )
 from mpcwalk.experiments.robustness.terrains import (
     LAYOUT_LABEL,
+    MILESTONES_LABEL,
     layout_text,
+    milestones,
     terrain_of,
     terrain_steps,
 )
@@ -83,7 +85,8 @@ def world_case(robot_name: str, plan: RobotPlan, controller: str, world: World, 
     """The walk (:class:`~mpcwalk.walking.specification.WalkSpec`) of ``controller`` in
     ``world``. On a terrain, the walk takes the steps that carry the robot over it
     (:func:`~mpcwalk.experiments.robustness.terrains.terrain_steps`, whatever the
-    controller's own count) and holds the terrain in its ``layout`` label too.
+    controller's own count) and holds the terrain in its ``layout`` label too, the steps
+    that reach and cross it in its ``terrain_steps`` label.
 
     Raises:
         TerrainError: The world's terrain does not fit the robot
@@ -116,7 +119,9 @@ def world_case(robot_name: str, plan: RobotPlan, controller: str, world: World, 
         command = (sx * (forward if sx > 0 else back), sy * lateral, syaw * yaw)
     command = tuple(round(c / slowdown, 5) for c in command)
     if "terrain" in changes:
-        nb_steps = terrain_steps(changes["terrain"], robot, command, own, config.terrain.exit_steps)
+        terrain, exit_steps = changes["terrain"], config.terrain.exit_steps
+        nb_steps = terrain_steps(terrain, robot, command, own, exit_steps)
+        labels += ((MILESTONES_LABEL, list(milestones(terrain, robot, command, own, exit_steps))),)
     pushes: tuple[tuple[float, ...], ...] = ()
     if "push" in changes:
         pushes = (_push(robot, changes.pop("push"), nb_steps, own.step_duration, config.ranges),)
