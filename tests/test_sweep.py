@@ -77,6 +77,16 @@ def test_a_killed_sweep_resumes_with_only_the_missing_cases(tmp_path):
     assert third.nb_run == 0 and third.nb_resumed == 10
 
 
+def test_a_case_id_of_digits_stays_text(tmp_path):
+    """A walk's case id is 16 hexadecimal digits: one of digits and an "e" reads as a float
+    (inf), one of digits alone as an integer; the table keeps them as text."""
+    path = tmp_path / "results.csv"
+    path.write_text("case_id,value\n723882e344680145,1.5\n0123456789012345,2\nab12,x\n")
+    rows = read_rows(path)
+    assert [r["case_id"] for r in rows] == ["723882e344680145", "0123456789012345", "ab12"]
+    assert [r["value"] for r in rows] == [1.5, 2, "x"]
+
+
 def test_a_changed_configuration_is_refused_unless_overwritten(tmp_path):
     run_sweep(sweep(level=1), tmp_path, workers=1, max_cases=1, progress=False)
     with pytest.raises(ConfigurationError, match="another configuration.*--overwrite"):

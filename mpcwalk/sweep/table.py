@@ -77,11 +77,16 @@ def decode(text: str) -> Any:
 
 
 def read_rows(path: str | Path) -> list[dict[str, Any]]:
-    """The rows of a results table (a partial last line, from a killed sweep, is left out)."""
+    """The rows of a results table (a partial last line, from a killed sweep, is left out);
+    the ``case_id`` stays text (an identifier of hexadecimal digits such as ``"723882e3..."``
+    is no number)."""
     text = Path(path).read_text(encoding="utf-8")
     if text and not text.endswith("\n"):
         text = text[: text.rfind("\n") + 1]
-    return [{k: decode(v) for k, v in row.items()} for row in csv.DictReader(io.StringIO(text))]
+    return [
+        {k: v if k == "case_id" else decode(v) for k, v in row.items()}
+        for row in csv.DictReader(io.StringIO(text))
+    ]
 
 
 class ResultsTable:
