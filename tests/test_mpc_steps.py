@@ -522,3 +522,33 @@ def test_a_lift_off_is_put_off_while_the_dcm_error_points_to_the_lifting_foot(si
     else:
         assert gen.nb_held == 0 and gen.time_offset == 0.0
     assert steps.min() > -1e-9  # never backwards
+
+
+def test_strides_placed_on_a_terrain_are_accepted_only_when_asked():
+    """A tread further than a flat step: refused by the flat rectangle, taken (its bounds
+    grown about the planned stride) with ``planned_strides``."""
+    from mpcwalk.exceptions import InfeasibleStep
+    from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side, StepTiming
+    from mpcwalk.gait.contact_schedule import ContactSchedule
+    from mpcwalk.generators.mpc_steps import FootstepMpcGenerator
+    from mpcwalk.models.lipm import LIPM
+
+    steps = [
+        Footstep(Side.RIGHT, (0.15, -0.05, 0.03)),  # 0.15 m: beyond the 0.08 m flat reach
+        Footstep(Side.LEFT, (0.15, 0.05, 0.03)),
+    ]
+    plan = FootstepPlan(
+        Footstep(Side.LEFT, (0.0, 0.05, 0.0)),
+        Footstep(Side.RIGHT, (0.0, -0.05, 0.0)),
+        steps,
+        StepTiming(0.8, 0.2, 0.5, 0.5),
+    )
+    schedule = ContactSchedule(plan)
+    with pytest.raises(InfeasibleStep, match="outside the reachability rectangle"):
+        FootstepMpcGenerator(lipm=LIPM(com_height=0.2)).reset(schedule)
+    generator = FootstepMpcGenerator(lipm=LIPM(com_height=0.2), planned_strides=True)
+    generator.reset(schedule)
+    lower, upper = generator._slots.bounds[0]
+    assert upper[0] == pytest.approx(0.15) and lower[0] < 0.0
+    while not generator.done:
+        generator.step()

@@ -55,6 +55,9 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         reachability: Landings allowed relative to the previous footstep: a
             :class:`ReachabilityRectangle`, or :class:`LegLimits` (its rectangle); default
             ``LegLimits()``; :meth:`for_robot` takes the robot's.
+        planned_strides: Accept the plan's strides beyond ``reachability`` (footsteps placed on
+            a terrain: a tread or a stone further than a flat step), each step's bounds grown
+            to hold its planned displacement; False refuses such a plan.
         solver: A ``qpsolvers`` name. Default ``"quadprog"``: median tick 0.84 ms (solver
             0.18 ms) against 1.16 ms (0.47 ms) with ``"daqp"`` on a 10-step walk, same
             plans. The QP is dense and rebuilt every tick, so ``"osqp-direct"``, ``"kkt"``
@@ -144,6 +147,7 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         min_swing: float = 0.15,
         max_hold: float = 0.5,
         hold_dcm_error: float = 0.01,
+        planned_strides: bool = False,
         **overrides,
     ) -> None:
         if not isinstance(timing_adaptation, bool):
@@ -182,6 +186,7 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
                 f"{type(reachability).__name__}."
             )
         self.reachability = reachability
+        self.planned_strides = bool(planned_strides)
         if footstep_reference not in FOOTSTEP_REFERENCES:
             raise ConfigurationError(
                 f"footstep_reference must be one of {', '.join(FOOTSTEP_REFERENCES)}, got "
@@ -231,7 +236,7 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
 
     # ------------------------------------------------------------------ reset
     def _reset(self, schedule: ContactSchedule, initial_state: ComState) -> GeneratorOutput:
-        slots = FootstepSlots(schedule, self.reachability)
+        slots = FootstepSlots(schedule, self.reachability, self.planned_strides)
         slots.check_reachable()
         self._slots = slots
         p = self.parameters

@@ -101,8 +101,14 @@ class FootstepSlots:
         current: The schedule with the published positions.
     """
 
-    def __init__(self, schedule: ContactSchedule, reachability: ReachabilityRectangle) -> None:
+    def __init__(
+        self,
+        schedule: ContactSchedule,
+        reachability: ReachabilityRectangle,
+        planned_strides: bool = False,
+    ) -> None:
         plan = schedule.plan
+        self.planned_strides = bool(planned_strides)
         self.nominal_schedule = schedule
         self.reachability = reachability
         self.nb_steps = nb = plan.nb_steps
@@ -114,10 +120,28 @@ class FootstepSlots:
         sides = [s.side for s in plan.steps]
         self.support = np.array([2 + k - 1 if k else init[sides[0].other] for k in range(nb)], int)
         self.lift = np.array([2 + k - 2 if k >= 2 else init[sides[k]] for k in range(nb)], int)
-        self.bounds = [reachability.bounds(side) for side in sides]
+        self.bounds = [
+            self._bounds_holding(reachability.bounds(side), k) for k, side in enumerate(sides)
+        ]
         self.landing = schedule.walk_start + np.arange(nb) * schedule.step_duration + schedule.t_e
         self.current = schedule
         self._tabulate(schedule)
+
+    def _bounds_holding(self, bounds, k: int):
+        """The rectangle's ``(lower, upper)`` of step ``k`` grown to hold its planned
+        displacement (x, y, yaw) from its support foot when ``planned_strides`` (a planner that
+        places footsteps on a terrain strides beyond the flat rectangle, onto a tread or a
+        stone; the generator adapts the step about it); else the rectangle as it is."""
+        lower, upper = (np.array(b, dtype=float) for b in bounds)
+        p, slot = self.support[k], 2 + k
+        yaw = self.yaws[p]
+        R = np.array([[np.cos(yaw), np.sin(yaw)], [-np.sin(yaw), np.cos(yaw)]])
+        local = np.append(
+            R @ (self.nominal[slot] - self.nominal[p]), wrap_angle(self.yaws[slot] - yaw)
+        )
+        if not self.planned_strides:
+            return lower, upper  # the flat rectangle (check_reachable refuses what leaves it)
+        return np.minimum(lower, local), np.maximum(upper, local)
 
     def check_reachable(self) -> None:
         """Every planned step must lie in the rectangle of its support foot.

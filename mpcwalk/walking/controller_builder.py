@@ -7,6 +7,7 @@ is the only place that turns one into objects. It also decides the timing of a w
 plan gives none (:func:`walk_timing`).
 """
 
+import inspect
 from collections.abc import Sequence
 
 from mpcwalk.control.controller import WalkingController
@@ -71,8 +72,12 @@ def build_controller(
     }
     options.update(spec.controller_options)
     options["swing_profile"] = spec.swing_profile
+    generator_options = dict(spec.generator_options)
     if terrain is not None and not terrain.is_flat:
         options["terrain"] = terrain
+        # a footstep-adaptive generator takes the strides the terrain planner gave
+        if "planned_strides" in inspect.signature(generator_class(spec.generator)).parameters:
+            generator_options.setdefault("planned_strides", True)
     if spec.arm_swing:
         options["arm_swing"] = spec.arm_swing
     stabilizer = build_stabilizer(spec.stabilizers)
@@ -85,7 +90,7 @@ def build_controller(
         control_period=control_period,
         feedback=spec.feedback,
         step_height=step_height,
-        generator_options=dict(spec.generator_options),
+        generator_options=generator_options,
         **options,
     )
 
