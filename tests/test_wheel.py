@@ -105,7 +105,8 @@ def test_the_wheel_ships_every_module_and_every_data_file(wheel):
     from mpcwalk.experiments.catalog import EXPERIMENTS
 
     for name in EXPERIMENTS:
-        assert f"mpcwalk/experiments/{name}/config.toml" in names, name
+        package = EXPERIMENTS.load(name).package  # e.g. mpcwalk.experiments.robustness
+        assert package.replace(".", "/") + "/config.toml" in names, name
     assert any(name.endswith(".dist-info/licenses/LICENSE") for name in names)
 
 
