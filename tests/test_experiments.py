@@ -21,6 +21,7 @@ NAMES = [
     "robustness_terrain",
     "push_map",
     "capture_map",
+    "terrain",
     "faults",
     "performance",
 ]

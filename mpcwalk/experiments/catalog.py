@@ -45,6 +45,12 @@ def _capture_map() -> Experiment:
     return CaptureMap()
 
 
+def _terrain() -> Experiment:
+    from mpcwalk.experiments.terrain.experiment import TerrainExperiment
+
+    return TerrainExperiment()
+
+
 def _faults() -> Experiment:
     from mpcwalk.experiments.faults.experiment import Faults
 
@@ -88,6 +94,11 @@ EXPERIMENTS: Registry[Experiment] = Registry(
             "capture_map",
             "the LIPM's push-recovery map of each robot with 0, 1 and 2 steps",
             _capture_map,
+        ),
+        Entry(
+            "terrain",
+            "the largest stair rise each controller climbs, slopes, stepping stones, rough ground",
+            _terrain,
         ),
         Entry(
             "faults",
