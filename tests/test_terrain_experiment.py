@@ -87,3 +87,12 @@ def test_the_quick_terrain_experiment(tmp_path):
     assert (out / "largest_rise.png").stat().st_size > 1000
     assert (out / "side_view.png").stat().st_size > 1000
     assert not (out / "side_views").exists()
+
+
+def test_paper_a_walks_at_its_own_timing_with_a_command_within_reach():
+    robot = get_robot("atlas-like")
+    config = load_terrain_config()
+    terrain = stairs_terrain(robot, config, 0.05)
+    spec = walk_spec(robot, "paper-a", terrain, config, robot.gait.step_duration)
+    assert spec.plan.step_duration is None  # the static gait's 12 s
+    assert spec.plan.command[0] * 12.0 <= robot.gait.max_step_forward

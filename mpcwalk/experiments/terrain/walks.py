@@ -112,11 +112,22 @@ def terrain_of(kind: str, robot: Any, config: TerrainConfig, rise: float | None 
     return builders[kind](robot, config)
 
 
+def own_step_duration(robot: Any, controller: str) -> float:
+    """The step duration [s] ``controller`` walks at by itself on ``robot`` (its
+    generator's own, else the robot's gait)."""
+    from mpcwalk.walking.controller_builder import walk_timing
+    from mpcwalk.walking.specification import ControllerSpec, PlanSpec
+
+    generator = ControllerSpec.named(controller).generator
+    return float(walk_timing(generator, robot.gait, PlanSpec()).step_duration)
+
+
 def walk_spec(
     robot: Any, controller: str, terrain: Terrain, config: TerrainConfig, step_duration: float
 ) -> Any:
-    """The walk of ``controller`` over ``terrain`` at ``step_duration`` [s] (see the
-    module's documentation).
+    """The walk of ``controller`` over ``terrain`` at ``step_duration`` [s] (a controller
+    of ``config.own_timing``: at its own, :func:`own_step_duration`; see the module's
+    documentation).
 
     Raises:
         MpcwalkError: The terrain or the walk refused (:data:`REFUSALS`).
@@ -127,6 +138,8 @@ def walk_spec(
     check_walk_terrain(robot, terrain)
     stride = min(stair_run(robot, config), REACH_SHARE * robot.gait.max_step_forward)
     timing = {} if controller in config.own_timing else {"step_duration": step_duration}
+    if not timing:  # the generator's own timing (paper A's 12 s), the command's too
+        step_duration = own_step_duration(robot, controller)
     spec = WalkSpec.build(
         robot.name,
         controller=controller,
@@ -211,6 +224,7 @@ __all__ = [
     "WALK_KEYS",
     "climbed",
     "draw_side_view",
+    "own_step_duration",
     "reach_of",
     "rough_terrain",
     "slope_terrain",
