@@ -126,9 +126,9 @@ def _setting_text(settings: dict[str, Any]) -> str:
         f"leg apart, over a pit. **Rough patch**: {s['rough_length_blocks']} x "
         f"{s['rough_width_blocks']} blocks of {s['rough_block_soles']:g} sole lengths, up to "
         f"{s['rough_height_share']:.0%} of the leg high (seed {s['seed']}). The command: "
-        "forward, its nominal stride the stair run within the legs' flat reach (the "
-        "planner adapts the strides to the treads), as many steps as leave the terrain "
-        "behind. Settings: `results.csv`, `sweep.json`.\n"
+        f"forward, its nominal stride {s['stride_share']:g} x the stair run within the legs' "
+        "flat reach (the planner moves the landings onto the treads), as many steps as leave "
+        "the terrain behind. Settings: `results.csv`, `sweep.json`.\n"
     )
 
 

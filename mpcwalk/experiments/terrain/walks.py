@@ -3,9 +3,10 @@
 - :func:`stair_run`, :func:`stairs_terrain`, :func:`slope_terrain`,
   :func:`stones_terrain`, :func:`rough_terrain`: the terrains (features start
   ``config.approach`` ahead, the initial stance on level ground);
-- :func:`walk_spec`: the walk over a terrain: a forward command whose nominal stride is the
-  stair run (within the legs' flat reach; the planner adapts strides to the treads), as
-  many steps as the footsteps need to leave the terrain behind;
+- :func:`walk_spec`: the walk over a terrain: a forward command whose nominal stride is a
+  share of the stair run (``config.stride_share``, within the legs' flat reach; the planner
+  moves the landings onto the treads), as many steps as the footsteps need to leave the
+  terrain behind;
 - :func:`terrain_walk`: walk it, its :data:`WALK_KEYS`; a terrain or walk the library
   refuses before anything runs is ``{"refused": "<message>"}`` (never an exception).
 """
@@ -136,7 +137,8 @@ def walk_spec(
     from mpcwalk.walking.walk_setup import check_walk_terrain, set_up_walk
 
     check_walk_terrain(robot, terrain)
-    stride = min(stair_run(robot, config), REACH_SHARE * robot.gait.max_step_forward)
+    run = config.stride_share * stair_run(robot, config)
+    stride = min(run, REACH_SHARE * robot.gait.max_step_forward)
     timing = {} if controller in config.own_timing else {"step_duration": step_duration}
     if not timing:  # the generator's own timing (paper A's 12 s), the command's too
         step_duration = own_step_duration(robot, controller)
