@@ -55,7 +55,7 @@ def test_a_refused_terrain_is_a_row_not_a_crash():
     assert row["refused"].startswith("TerrainError: The terrain does not fit bioloid-like")
     assert "gap" in row["refused"] and row["climbed"] is False and row["nb_walks"] == 0
     shown = walk_table([{**row, "robot": "bioloid-like", "controller": "mpc", "timing": 0.5}])
-    assert "refused: TerrainError" in shown
+    assert "refused (TerrainError: The terrain does not fit bioloid-like" in shown
 
 
 @pytest.mark.slow

@@ -57,6 +57,7 @@ class TerrainExperiment(Experiment):
             PEERS,
             crashes_text,
             kept_rows,
+            refusals_text,
             rise_table,
             timing_table,
             walk_table,
@@ -94,7 +95,16 @@ class TerrainExperiment(Experiment):
         ):
             if terrain in terrains:
                 text += [f"## {title}\n", walk_table(kept_rows(rows, terrain))]
-        text += ["## Crashes\n", crashes_text(rows), "## Goals\n", goals_text(rows, settings)]
+        text += [
+            "## Refusals\n",
+            "Terrains or walks the library refused before they ran (the tables give them in "
+            "short):\n",
+            refusals_text(rows),
+            "## Crashes\n",
+            crashes_text(rows),
+            "## Goals\n",
+            goals_text(rows, settings),
+        ]
         figures = [n for n in (RISE_FIGURE, SIDE_VIEW) if (out / n).exists()]
         if figures:
             text.append("## Figures\n")

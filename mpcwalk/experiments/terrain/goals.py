@@ -6,7 +6,12 @@ the leg length apart; a rough patch of blocks up to 10 % of the leg length."""
 
 from typing import Any
 
-from mpcwalk.experiments.terrain.report import GOAL_CONTROLLERS, GOAL_LANDING_CM, kept_rows
+from mpcwalk.experiments.terrain.report import (
+    GOAL_CONTROLLERS,
+    GOAL_LANDING_CM,
+    kept_rows,
+    short_refusal,
+)
 
 #: The goals' sizes (as the issue states them).
 GOAL_RUN_SOLES = 1.5
@@ -20,7 +25,7 @@ def _walk_text(row: dict[str, Any]) -> str:
     if row.get("error"):
         return "crashed"
     if row.get("refused"):
-        return "refused"
+        return f"refused ({short_refusal(row['refused'])})"
     steps = f"{row.get('steps_completed')}/{row.get('steps_planned')} steps"
     mean = row.get("landing_error_3d_cm_mean")
     landing = "" if mean is None else f", landing error mean {mean:.2f} cm"

@@ -50,14 +50,29 @@ def kept_rows(rows: list[dict[str, Any]], terrain: str) -> list[dict[str, Any]]:
     ]
 
 
+def short_refusal(message: str) -> str:
+    """A refusal in a few words: its error's name and first clause (the whole message is
+    in the Refusals section)."""
+    name, _, text = str(message).partition(": ")
+    head = text.split(";")[0].split(". ")[0]
+    return f"{name}: {head[:90]}{'...' if len(head) > 90 else ''}"
+
+
 def _status(row: dict[str, Any]) -> str:
     if row.get("error"):
         return "crashed (see Crashes)"
     if row.get("refused"):
-        return f"refused: {row['refused']}"
+        return f"refused ({short_refusal(row['refused'])})"
     if row.get("outcome") == "walked":
         return "crossed" if row.get("climbed") else "walked, not all steps or landings off"
     return f"{row.get('outcome')} ({row.get('fall_reason') or row.get('stop_reason') or ''})"
+
+
+def _shown_timing(row: dict[str, Any]) -> str:
+    """The step duration, with the controller's own in brackets when it kept it."""
+    timing = timing_of(row)
+    own = row.get("step_duration_s")
+    return f"own ({float(own):g})" if timing == "own" and own is not None else timing
 
 
 def _cm(value: Any) -> float | None:
@@ -71,7 +86,7 @@ def timing_table(rows: list[dict[str, Any]]) -> str:
         {
             "robot": r["robot"],
             "controller": r["controller"],
-            "timing": timing_of(r),
+            "timing": _shown_timing(r),
             "rise": _cm(r.get("largest_rise_m")),
             "kept": kept.get((r["robot"], r["controller"])) == timing_of(r),
             "state": "" if r.get("climbed") or r.get("outcome") == "walked" else _status(r),
@@ -98,7 +113,7 @@ def rise_table(kept: list[dict[str, Any]]) -> str:
         {
             "robot": r["robot"],
             "controller": r["controller"],
-            "timing": timing_of(r),
+            "timing": _shown_timing(r),
             "rise": _cm(r.get("largest_rise_m")),
             "share": None if r.get("largest_rise_share") is None else 100 * r["largest_rise_share"],
             "failed": _cm(r.get("smallest_failed_rise_m")),
@@ -129,7 +144,7 @@ def walk_table(kept: list[dict[str, Any]], *, rise: bool = False) -> str:
     lines = [
         {
             **r,
-            "timing": timing_of(r),
+            "timing": _shown_timing(r),
             "rise_cm": _cm(r.get("rise_m")),
             "steps": (
                 f"{r['steps_completed']}/{r['steps_planned']}"
@@ -154,6 +169,23 @@ def walk_table(kept: list[dict[str, Any]], *, rise: bool = False) -> str:
     return table(lines, columns)
 
 
+def refusals_text(rows: list[dict[str, Any]]) -> str:
+    """Each refusal once, whole, with the cases it refused."""
+    cases: dict[str, list[str]] = {}
+    for row in rows:
+        if row.get("refused") and not row.get("error"):
+            cases.setdefault(str(row["refused"]), []).append(str(row["case_id"]))
+    if not cases:
+        return "The library refused no walk.\n"
+    return (
+        "\n".join(
+            f"- {message} ({len(ids)} cases: {', '.join(f'`{i}`' for i in ids)})"
+            for message, ids in cases.items()
+        )
+        + "\n"
+    )
+
+
 def crashes_text(rows: list[dict[str, Any]]) -> str:
     """The cases that crashed (an exception that is not a refusal), with the error's head."""
     crashed = [r for r in rows if r.get("error")]
@@ -172,7 +204,9 @@ __all__ = [
     "crashes_text",
     "kept_rows",
     "kept_timings",
+    "refusals_text",
     "rise_table",
+    "short_refusal",
     "timing_table",
     "walk_table",
 ]
