@@ -38,15 +38,28 @@ def rise_bars(out: Path, kept: list[dict[str, Any]], goal_share: float) -> str:
         x = np.arange(len(robots)) + (j - 0.5 * (len(controllers) - 1)) * width
         bars = ax.bar(x, values, width, label=controller)
         ax.bar_label(bars, labels, fontsize=6, padding=1)
+        failed = [_failed_share(robot, controller, kept) for robot in robots]
+        ax.plot(x, failed, "v", ms=4, color=bars.patches[0].get_facecolor(), mec="k", mew=0.4)
+    ax.plot([], [], "v", ms=4, color="w", mec="k", mew=0.4, label="smallest rise failed")
     ax.axhline(100.0 * goal_share, color="k", ls="--", lw=1.0, label="goal")
     ax.set_xticks(range(len(robots)), robots)
     ax.set_ylabel("largest rise climbed [% of leg length]")
     ax.set_ylim(0.0, 55.0)
-    ax.legend(fontsize=7, ncol=len(controllers) + 1, loc="upper left")
+    ax.legend(fontsize=7, ncol=3, loc="upper left")
     ax.set_title("Largest stair rise climbed (5 up, landing, 5 down)", fontsize=10)
     fig.savefig(out / RISE_FIGURE, dpi=90)
     plt.close(fig)
     return RISE_FIGURE
+
+
+def _failed_share(robot: str, controller: str, kept: list[dict[str, Any]]) -> float:
+    """The smallest rise failed [% of the leg] of a robot's controller (NaN: none)."""
+    for row in kept:
+        if row["robot"] == robot and row["controller"] == controller:
+            failed, leg = row.get("smallest_failed_rise_m"), row.get("leg_length_m")
+            if failed is not None and leg:
+                return 100.0 * float(failed) / float(leg)
+    return float("nan")
 
 
 def _bar_label(row: dict[str, Any] | None) -> str:
