@@ -19,15 +19,18 @@ def test_the_configuration_and_its_quick_variant(tmp_path):
     assert all(
         set(p.controllers) == {"mpc", "mpc-steps", "paper-a", "paper-m"} for p in full.robots
     )
-    # paper A keeps its own timing: one case per terrain, the others one per step duration
+    # paper A keeps its own timing, the others walk at each step duration; every stride
     cases = terrain_cases(full)
-    assert len(cases) == 3 * (3 * 2 + 1) * 4
+    assert full.stride_shares == (1.0, 0.25)
+    assert len(cases) == 3 * (3 * 2 + 1) * 2 * 4
     assert {c.timing for c in cases if c.controller == "paper-a"} == {"own"}
+    assert len({c.case_id for c in cases}) == len(cases)
     quick = load_terrain_config(quick=True)
     assert [(p.robot, p.controllers, len(p.step_durations)) for p in quick.robots] == [
         ("g1", ("mpc",), 1)
     ]
     assert quick.bisection_iterations == 2 and quick.mode == "quick"
+    assert quick.stride_shares == (1.0,)
     bad = tmp_path / "config.toml"
     bad.write_text('climb_cm = 5.0\n[[robots]]\nrobot = "g1"\ncontrollers = ["mpc"]\n')
     with pytest.raises(ConfigurationError, match="climb_cm"):
@@ -70,6 +73,7 @@ def test_the_quick_terrain_experiment(tmp_path):
     assert cli_main(command) == 0
     rows = {row["terrain"]: row for row in read_rows(out / "results.csv")}
     assert set(rows) == {"stairs", "slope"}
+    assert rows["stairs"]["case_id"] == "g1/mpc/stairs/T0.6-stride1"
     stairs, slope = rows["stairs"], rows["slope"]
     assert not stairs["error"] and not slope["error"]
     assert (stairs["robot"], stairs["controller"]) == ("g1", "mpc")
@@ -83,7 +87,7 @@ def test_the_quick_terrain_experiment(tmp_path):
     for part in ("## Largest rise climbed", "## At the goal's rise", "## Slopes", "## Goals"):
         assert part in report
     assert "18.5 cm" in report  # the peers' figure, stated as theirs
-    assert "| g1 | mpc | 0.6 |" in report
+    assert "| g1 | mpc | 0.6 | 1.00 |" in report
     assert (out / "largest_rise.png").stat().st_size > 1000
     assert (out / "side_view.png").stat().st_size > 1000
     assert not (out / "side_views").exists()

@@ -1,7 +1,7 @@
 """The terrain experiment's cases on the sweep engine.
 
-A case (:class:`TerrainCase`) is one controller of one robot at one step duration on one
-terrain. Its runner (:func:`run_terrain_case`):
+A case (:class:`TerrainCase`) is one controller of one robot at one step duration and one
+nominal stride on one terrain. Its runner (:func:`run_terrain_case`):
 
 - ``stairs``: the largest rise climbed, by bisection between 0 and the legs' reach
   (:attr:`~mpcwalk.terrain.TerrainReach.max_rise`), its first walk at the goal's rise
@@ -50,7 +50,7 @@ SIDE_VIEWS = "side_views"
 
 @dataclass(frozen=True)
 class TerrainCase:
-    """One controller of one robot at one step duration on one terrain.
+    """One controller of one robot at one step duration and nominal stride on one terrain.
 
     Attributes:
         config: The experiment.
@@ -58,6 +58,7 @@ class TerrainCase:
         controller: The named controller.
         terrain: ``stairs``, ``slope``, ``stones`` or ``rough``.
         step_duration: Step duration T [s]; None: the controller's own timing.
+        stride_share: The command's nominal stride [share of the stair run].
         out: The results folder, where a stairs case draws its highest climb (None: none).
     """
 
@@ -66,6 +67,7 @@ class TerrainCase:
     controller: str
     terrain: str
     step_duration: float | None
+    stride_share: float = 1.0
     out: str | None = None
 
     @property
@@ -74,9 +76,14 @@ class TerrainCase:
         return "own" if self.step_duration is None else f"{self.step_duration:g}"
 
     @property
+    def variant(self) -> str:
+        """The step duration and the stride, as the tables and file names name them."""
+        return f"T{self.timing}-stride{self.stride_share:g}"
+
+    @property
     def case_id(self) -> str:
-        """Robot, controller, terrain and timing."""
-        return f"{self.robot}/{self.controller}/{self.terrain}/{self.timing}"
+        """Robot, controller, terrain, step duration and stride."""
+        return f"{self.robot}/{self.controller}/{self.terrain}/{self.variant}"
 
     def to_columns(self) -> dict[str, Any]:
         """Columns of the results table."""
@@ -86,6 +93,8 @@ class TerrainCase:
             "controller": self.controller,
             "terrain": self.terrain,
             "timing": self.timing,
+            "stride_share": self.stride_share,
+            "variant": self.variant,
         }
 
 
@@ -98,7 +107,7 @@ def timing_of(row: dict[str, Any]) -> str:
 
 def terrain_cases(config: TerrainConfig, out: str | Path | None = None) -> tuple[TerrainCase, ...]:
     """Every robot's controllers on every terrain, at each of its step durations (a
-    controller with its own timing: once)."""
+    controller with its own timing: at that one) and each nominal stride."""
     folder = None if out is None else str(out)
     cases = []
     for plan in config.robots:
@@ -107,16 +116,27 @@ def terrain_cases(config: TerrainConfig, out: str | Path | None = None) -> tuple
             durations: tuple[float | None, ...] = (None,) if own else plan.step_durations
             for terrain in config.terrains:
                 for duration in durations:
-                    cases.append(
-                        TerrainCase(config, plan.robot, controller, terrain, duration, folder)
-                    )
+                    for stride in config.stride_shares:
+                        cases.append(
+                            TerrainCase(
+                                config, plan.robot, controller, terrain, duration, stride, folder
+                            )
+                        )
     return tuple(cases)
 
 
 def _walk(case: TerrainCase, robot: Any, rise: float | None, side_view: Any = None) -> dict:
     terrain = terrain_of(case.terrain, robot, case.config, rise)
     duration = case.step_duration or robot.gait.step_duration
-    return terrain_walk(robot, case.controller, terrain, case.config, duration, side_view=side_view)
+    return terrain_walk(
+        robot,
+        case.controller,
+        terrain,
+        case.config,
+        duration,
+        case.stride_share,
+        side_view=side_view,
+    )
 
 
 def _trial(rise: float, walk: dict[str, Any], ok: bool) -> list[Any]:
@@ -141,7 +161,7 @@ def bisect_rise(case: TerrainCase, robot: Any) -> dict[str, Any]:
     if case.out is not None:  # the goal's walk drawn, then each higher climb over it
         folder = Path(case.out) / SIDE_VIEWS
         folder.mkdir(parents=True, exist_ok=True)
-        final = folder / f"{case.robot}_{case.controller}_{case.timing}.png"
+        final = folder / f"{case.robot}_{case.controller}_{case.variant}.png"
         draft = final.with_suffix(".draft.png")
     lo, hi, failed = 0.0, reach_of(robot).max_rise, None
     goal_rise = config.goal_rise_share * leg

@@ -48,8 +48,10 @@ class TerrainConfig:
         goal_rise_share: The goal's rise [share of the leg length].
         bisection_iterations: Most walks of the bisection on the rise.
         tolerance_share: The bisection stops at a bracket this narrow [share of the leg].
-        stride_share: The command's nominal stride as a share of the stair run (within the
-            legs' flat reach) [-]; the planner moves each landing onto the treads.
+        stride_shares: The command's nominal strides tried, as shares of the stair run
+            (within the legs' flat reach) [-]; the planner moves each landing onto the
+            treads (the report keeps, per controller, the stride and step duration that
+            climb higher).
         approach: Level ground before the first feature [m].
         nb_stairs: Steps up, and as many down.
         run_soles: Stair run [sole lengths] (never under the sole with its margins).
@@ -77,7 +79,7 @@ class TerrainConfig:
     goal_rise_share: float = 0.25
     bisection_iterations: int = 5
     tolerance_share: float = 0.01
-    stride_share: float = 1.0
+    stride_shares: tuple[float, ...] = (1.0,)
     approach: float = 0.5
     nb_stairs: int = 5
     run_soles: float = 1.5

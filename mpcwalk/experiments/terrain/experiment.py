@@ -59,7 +59,7 @@ class TerrainExperiment(Experiment):
             kept_rows,
             refusals_text,
             rise_table,
-            timing_table,
+            variant_table,
             walk_table,
         )
 
@@ -75,12 +75,14 @@ class TerrainExperiment(Experiment):
         if "stairs" in terrains:
             stairs = kept_rows(rows, "stairs")
             text += [
-                "## Step duration\n",
-                "Each robot's controllers walk at each of its step durations; the report "
-                "keeps, per robot and controller, the one that climbs higher (then the one "
-                "whose goal walk went farther, then the faster). Controllers with a timing of "
-                "their own (`own`: paper A's 12 s) keep it.\n",
-                timing_table(rows),
+                "## Step duration and stride\n",
+                "Each robot's controllers walk at each of its step durations and each nominal "
+                "stride; the report keeps, per robot and controller, the pair that climbs "
+                "higher (then the one whose goal walk went through a larger share of its "
+                "steps, then the faster, then the longer stride), and shows its walks in every "
+                "table below. Controllers with a timing of their own (`own`: paper A's 12 s) "
+                "keep it.\n",
+                variant_table(rows),
                 "## Largest rise climbed\n",
                 rise_table(stairs),
                 PEERS + "\n",
@@ -136,7 +138,8 @@ def _setting_text(settings: dict[str, Any]) -> str:
         f"leg apart, over a pit. **Rough patch**: {s['rough_length_blocks']} x "
         f"{s['rough_width_blocks']} blocks of {s['rough_block_soles']:g} sole lengths, up to "
         f"{s['rough_height_share']:.0%} of the leg high (seed {s['seed']}). The command: "
-        f"forward, its nominal stride {s['stride_share']:g} x the stair run within the legs' "
+        "forward, its nominal stride "
+        f"{' or '.join(f'{v:g}' for v in s['stride_shares'])} x the stair run within the legs' "
         "flat reach (the planner moves the landings onto the treads), as many steps as leave "
         "the terrain behind. Settings: `results.csv`, `sweep.json`.\n"
     )

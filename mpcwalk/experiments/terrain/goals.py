@@ -1,4 +1,4 @@
-"""The issue's goals checked on the terrain experiment's rows (kept timings): each robot up
+"""The issue's goals checked on the terrain experiment's rows (kept step durations and strides): each robot up
 and down 5 stairs of a rise of at least 25 % of its leg length and a run no longer than 1.5
 sole lengths without falling, with ``mpc``, ``mpc-steps`` and paper A's static gait,
 landing errors under 1 cm on average; 15 deg slopes up and down; stepping stones 40 % of

@@ -15,7 +15,7 @@ SIDE_VIEW = "side_view.png"
 
 def rise_bars(out: Path, kept: list[dict[str, Any]], goal_share: float) -> str:
     """The largest rise climbed [share of the leg length] per robot and controller (the
-    stairs rows of the kept timings), the goal's share drawn; the figure's file name."""
+    stairs rows of the kept step durations and strides), the goal's share drawn; the figure's file name."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -104,7 +104,7 @@ def pick_side_views(out: Path, kept: list[dict[str, Any]]) -> tuple[list[str], s
 
 
 def _view(folder: Path, row: dict[str, Any]) -> Path:
-    return folder / f"{row['robot']}_{row['controller']}_{timing_of(row)}.png"
+    return folder / f"{row['robot']}_{row['controller']}_{row['variant']}.png"
 
 
 def _view_rank(row: dict[str, Any]) -> tuple[float, float]:
@@ -119,11 +119,11 @@ def _view_text(row: dict[str, Any]) -> str:
     shown = f"{100.0 * float(rise):.1f} cm" if rise is not None else "-"
     if row.get("largest_rise_share"):
         return (
-            f"{row['robot']} with `{row['controller']}` (T = {timing_of(row)} s) climbing its "
+            f"{row['robot']} with `{row['controller']}` (T = {timing_of(row)} s, stride {float(row['stride_share']):g} x the run) climbing its "
             f"highest rise, {shown}"
         )
     return (
-        f"no walk climbed: {row['robot']} with `{row['controller']}` (T = {timing_of(row)} s) "
+        f"no walk climbed: {row['robot']} with `{row['controller']}` (T = {timing_of(row)} s, stride {float(row['stride_share']):g} x the run) "
         f"at the goal's rise of {shown}, the attempt that went farthest"
     )
 

@@ -1,4 +1,5 @@
-"""The terrain experiment's report: the timing kept per robot and controller, the largest
+"""The terrain experiment's report: the step duration and stride kept per robot and
+controller, the largest
 rise climbed next to the peers' figure, the walks at the goal's rise, the slopes, stepping
 stones and rough patch, the crashes, and the issue's goals checked on them."""
 
@@ -18,35 +19,43 @@ PEERS = (
 )
 
 
-def _timing_key(row: dict[str, Any]) -> tuple[float, float, float]:
-    """Higher climbs first, then the goal's walk that went farther, then the faster."""
+def variant_of(row: dict[str, Any]) -> str:
+    """A row's step duration and stride (:attr:`TerrainCase.variant`)."""
+    return str(row["variant"])
+
+
+def _variant_key(row: dict[str, Any]) -> tuple[float, float, float, float]:
+    """Higher climbs first, then the goal's walk that went farther (its share of the
+    steps), then the faster step, then the longer stride."""
     timing = timing_of(row)
+    planned = float(row.get("steps_planned") or 0)
     return (
         float(row.get("largest_rise_m") or 0.0),
-        float(row.get("steps_completed") or 0),
+        float(row.get("steps_completed") or 0) / planned if planned else 0.0,
         -(float(timing) if timing != "own" else 1e9),
+        float(row.get("stride_share") or 0.0),
     )
 
 
-def kept_timings(rows: list[dict[str, Any]]) -> dict[tuple[str, str], str]:
-    """Per robot and controller, the timing whose stairs climb higher."""
+def kept_variants(rows: list[dict[str, Any]]) -> dict[tuple[str, str], str]:
+    """Per robot and controller, the step duration and stride whose stairs climb higher."""
     best: dict[tuple[str, str], dict[str, Any]] = {}
     for row in rows:
         if row["terrain"] != "stairs":
             continue
         key = (row["robot"], row["controller"])
-        if key not in best or _timing_key(row) > _timing_key(best[key]):
+        if key not in best or _variant_key(row) > _variant_key(best[key]):
             best[key] = row
-    return {key: timing_of(row) for key, row in best.items()}
+    return {key: variant_of(row) for key, row in best.items()}
 
 
 def kept_rows(rows: list[dict[str, Any]], terrain: str) -> list[dict[str, Any]]:
-    """The rows of ``terrain`` at the kept timings."""
-    kept = kept_timings(rows)
+    """The rows of ``terrain`` at the kept step durations and strides."""
+    kept = kept_variants(rows)
     return [
         r
         for r in rows
-        if r["terrain"] == terrain and kept.get((r["robot"], r["controller"])) == timing_of(r)
+        if r["terrain"] == terrain and kept.get((r["robot"], r["controller"])) == variant_of(r)
     ]
 
 
@@ -79,16 +88,18 @@ def _cm(value: Any) -> float | None:
     return None if value is None else 100.0 * float(value)
 
 
-def timing_table(rows: list[dict[str, Any]]) -> str:
-    """Largest rise per robot, controller and step duration, and the one kept."""
-    kept = kept_timings(rows)
+def variant_table(rows: list[dict[str, Any]]) -> str:
+    """Largest rise per robot, controller, step duration and stride, and the one kept."""
+    kept = kept_variants(rows)
     lines = [
         {
             "robot": r["robot"],
             "controller": r["controller"],
             "timing": _shown_timing(r),
+            "stride": r.get("stride_share"),
+            "steps": f"{r.get('steps_completed')}/{r.get('steps_planned')}",
             "rise": _cm(r.get("largest_rise_m")),
-            "kept": kept.get((r["robot"], r["controller"])) == timing_of(r),
+            "kept": kept.get((r["robot"], r["controller"])) == variant_of(r),
             "state": "" if r.get("climbed") or r.get("outcome") == "walked" else _status(r),
         }
         for r in rows
@@ -100,7 +111,9 @@ def timing_table(rows: list[dict[str, Any]]) -> str:
             ("robot", "robot", 0),
             ("controller", "controller", 0),
             ("timing", "step duration T [s]", 0),
+            ("stride", "stride [x run]", 2),
             ("rise", "largest rise climbed [cm]", 1),
+            ("steps", "goal's walk: steps", 0),
             ("kept", "kept", 0),
             ("state", "goal's walk, when it did not walk", 0),
         ],
@@ -114,6 +127,7 @@ def rise_table(kept: list[dict[str, Any]]) -> str:
             "robot": r["robot"],
             "controller": r["controller"],
             "timing": _shown_timing(r),
+            "stride": r.get("stride_share"),
             "rise": _cm(r.get("largest_rise_m")),
             "share": None if r.get("largest_rise_share") is None else 100 * r["largest_rise_share"],
             "failed": _cm(r.get("smallest_failed_rise_m")),
@@ -129,6 +143,7 @@ def rise_table(kept: list[dict[str, Any]]) -> str:
             ("robot", "robot", 0),
             ("controller", "controller", 0),
             ("timing", "T [s]", 0),
+            ("stride", "stride [x run]", 2),
             ("rise", "largest rise climbed [cm]", 1),
             ("share", "of the leg length [%]", 1),
             ("failed", "smallest rise failed [cm]", 1),
@@ -145,6 +160,7 @@ def walk_table(kept: list[dict[str, Any]], *, rise: bool = False) -> str:
         {
             **r,
             "timing": _shown_timing(r),
+            "stride": r.get("stride_share"),
             "rise_cm": _cm(r.get("rise_m")),
             "steps": (
                 f"{r['steps_completed']}/{r['steps_planned']}"
@@ -155,7 +171,12 @@ def walk_table(kept: list[dict[str, Any]], *, rise: bool = False) -> str:
         }
         for r in kept
     ]
-    columns = [("robot", "robot", 0), ("controller", "controller", 0), ("timing", "T [s]", 0)]
+    columns = [
+        ("robot", "robot", 0),
+        ("controller", "controller", 0),
+        ("timing", "T [s]", 0),
+        ("stride", "stride [x run]", 2),
+    ]
     columns += [("rise_cm", "rise [cm]", 1)] if rise else []
     columns += [
         ("status", "walked?", 0),
@@ -203,10 +224,11 @@ __all__ = [
     "PEERS",
     "crashes_text",
     "kept_rows",
-    "kept_timings",
+    "kept_variants",
     "refusals_text",
     "rise_table",
     "short_refusal",
-    "timing_table",
+    "variant_of",
+    "variant_table",
     "walk_table",
 ]

@@ -4,7 +4,7 @@
   :func:`stones_terrain`, :func:`rough_terrain`: the terrains (features start
   ``config.approach`` ahead, the initial stance on level ground);
 - :func:`walk_spec`: the walk over a terrain: a forward command whose nominal stride is a
-  share of the stair run (``config.stride_share``, within the legs' flat reach; the planner
+  share of the stair run (one of ``config.stride_shares``, within the legs' flat reach; the planner
   moves the landings onto the treads), as many steps as the footsteps need to leave the
   terrain behind;
 - :func:`terrain_walk`: walk it, its :data:`WALK_KEYS`; a terrain or walk the library
@@ -124,10 +124,16 @@ def own_step_duration(robot: Any, controller: str) -> float:
 
 
 def walk_spec(
-    robot: Any, controller: str, terrain: Terrain, config: TerrainConfig, step_duration: float
+    robot: Any,
+    controller: str,
+    terrain: Terrain,
+    config: TerrainConfig,
+    step_duration: float,
+    stride_share: float = 1.0,
 ) -> Any:
     """The walk of ``controller`` over ``terrain`` at ``step_duration`` [s] (a controller
-    of ``config.own_timing``: at its own, :func:`own_step_duration`; see the module's
+    of ``config.own_timing``: at its own, :func:`own_step_duration`), its nominal stride
+    ``stride_share`` of the stair run within the legs' flat reach (see the module's
     documentation).
 
     Raises:
@@ -137,7 +143,7 @@ def walk_spec(
     from mpcwalk.walking.walk_setup import check_walk_terrain, set_up_walk
 
     check_walk_terrain(robot, terrain)
-    run = config.stride_share * stair_run(robot, config)
+    run = stride_share * stair_run(robot, config)
     stride = min(run, REACH_SHARE * robot.gait.max_step_forward)
     timing = {} if controller in config.own_timing else {"step_duration": step_duration}
     if not timing:  # the generator's own timing (paper A's 12 s), the command's too
@@ -169,17 +175,19 @@ def terrain_walk(
     terrain: Terrain,
     config: TerrainConfig,
     step_duration: float,
+    stride_share: float = 1.0,
     *,
     side_view: Any = None,
 ) -> dict[str, Any]:
-    """Walk ``controller`` over ``terrain``: its :data:`WALK_KEYS` and ``nb_steps``, or
+    """Walk ``controller`` over ``terrain`` (:func:`walk_spec`): its :data:`WALK_KEYS` and
+    ``nb_steps``, or
     ``{"refused": message}`` when the library refuses the terrain or the walk before it
     runs. ``side_view``: a path where to draw the walk's side view. Any other exception
     (a crash while walking) propagates."""
     from mpcwalk.walking.runner import run_walk
 
     try:
-        spec = walk_spec(robot, controller, terrain, config, step_duration)
+        spec = walk_spec(robot, controller, terrain, config, step_duration, stride_share)
         result = run_walk(spec, robot=robot)
     except REFUSALS as error:
         return {"refused": " ".join(f"{type(error).__name__}: {error}".split())[:400]}
