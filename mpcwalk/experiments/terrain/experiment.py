@@ -59,6 +59,7 @@ class TerrainExperiment(Experiment):
             kept_rows,
             refusals_text,
             rise_table,
+            trials_text,
             variant_table,
             walk_table,
         )
@@ -86,6 +87,10 @@ class TerrainExperiment(Experiment):
                 "## Largest rise climbed\n",
                 rise_table(stairs),
                 PEERS + "\n",
+                "The bisection's walks (kept step duration and stride), in the order they ran "
+                "(a walk that fails a rise under one it climbed shows the outcome is not "
+                "monotone in the rise there):\n",
+                trials_text(stairs),
                 f"## At the goal's rise ({float(settings['goal_rise_share']):.0%} of the leg "
                 "length)\n",
                 walk_table(stairs, rise=True),

@@ -97,7 +97,11 @@ def variant_table(rows: list[dict[str, Any]]) -> str:
             "controller": r["controller"],
             "timing": _shown_timing(r),
             "stride": r.get("stride_share"),
-            "steps": f"{r.get('steps_completed')}/{r.get('steps_planned')}",
+            "steps": (
+                f"{r['steps_completed']}/{r['steps_planned']}"
+                if r.get("steps_planned") is not None
+                else None
+            ),
             "rise": _cm(r.get("largest_rise_m")),
             "kept": kept.get((r["robot"], r["controller"])) == variant_of(r),
             "state": "" if r.get("climbed") or r.get("outcome") == "walked" else _status(r),
@@ -207,6 +211,23 @@ def refusals_text(rows: list[dict[str, Any]]) -> str:
     )
 
 
+def trials_text(kept: list[dict[str, Any]]) -> str:
+    """Each bisection's walks in the order they ran: rise [cm], climbed or why not."""
+    lines = []
+    for row in kept:
+        trials = row.get("trials") or []
+        if not trials:
+            continue
+        walks = "; ".join(
+            f"{100.0 * float(rise):.2f} cm {'climbed' if ok else why}" for rise, ok, why in trials
+        )
+        lines.append(
+            f"- {row['robot']}, `{row['controller']}` (T = {_shown_timing(row)} s, stride "
+            f"{float(row['stride_share']):g} x the run): {walks}"
+        )
+    return "\n".join(lines) + "\n" if lines else "No bisection ran.\n"
+
+
 def crashes_text(rows: list[dict[str, Any]]) -> str:
     """The cases that crashed (an exception that is not a refusal), with the error's head."""
     crashed = [r for r in rows if r.get("error")]
@@ -228,6 +249,7 @@ __all__ = [
     "refusals_text",
     "rise_table",
     "short_refusal",
+    "trials_text",
     "variant_of",
     "variant_table",
     "walk_table",
