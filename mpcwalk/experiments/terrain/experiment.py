@@ -113,11 +113,17 @@ class TerrainExperiment(Experiment):
             goals_text(rows, settings),
         ]
         figures = [n for n in (RISE_FIGURE, SIDE_VIEW) if (out / n).exists()]
+        robots = sorted(p.name for p in out.glob("side_view_*.png"))
         if figures:
             text.append("## Figures\n")
         if note.exists():
             text.append(f"The side view: {note.read_text().strip()}.\n")
         text += [f"![{name}]({name})\n" for name in figures]
+        if robots:
+            text.append(
+                "Each robot's side view (its highest climb, else the goal's walk that went "
+                "farthest): " + ", ".join(f"[{name}]({name})" for name in robots) + ".\n"
+            )
         path = out / "report.md"
         path.write_text("\n".join(text))
         return path
