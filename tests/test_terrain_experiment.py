@@ -21,7 +21,7 @@ def test_the_configuration_and_its_quick_variant(tmp_path):
     )
     # paper A keeps its own timing, the others walk at each step duration; every stride
     cases = terrain_cases(full)
-    assert full.stride_shares == (1.0, 0.25)
+    assert full.stride_shares == (0.5, 0.25)
     assert len(cases) == 3 * (3 * 2 + 1) * 2 * 4
     assert {c.timing for c in cases if c.controller == "paper-a"} == {"own"}
     assert len({c.case_id for c in cases}) == len(cases)
@@ -73,7 +73,7 @@ def test_the_quick_terrain_experiment(tmp_path):
     assert cli_main(command) == 0
     rows = {row["terrain"]: row for row in read_rows(out / "results.csv")}
     assert set(rows) == {"stairs", "slope"}
-    assert rows["stairs"]["case_id"] == "g1/mpc/stairs/T0.6-stride1"
+    assert rows["stairs"]["case_id"] == "g1/mpc/stairs/T1-stride1"
     stairs, slope = rows["stairs"], rows["slope"]
     assert not stairs["error"] and not slope["error"]
     assert (stairs["robot"], stairs["controller"]) == ("g1", "mpc")
