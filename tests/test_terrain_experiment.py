@@ -87,7 +87,7 @@ def test_the_quick_terrain_experiment(tmp_path):
     for part in ("## Largest rise climbed", "## At the goal's rise", "## Slopes", "## Goals"):
         assert part in report
     assert "18.5 cm" in report  # the peers' figure, stated as theirs
-    assert "| g1 | mpc | 0.6 | 1.00 |" in report
+    assert "| g1 | mpc | 1 | 1.00 |" in report
     assert (out / "largest_rise.png").stat().st_size > 1000
     assert (out / "side_view.png").stat().st_size > 1000
     assert not (out / "side_views").exists()
