@@ -31,6 +31,13 @@ def _number(feature: str, name: str, value: Any, low: float, high: float, unit: 
     return checked_number(name, value, low=low, high=high, unit=unit, error=refuse)
 
 
+def _integer(feature: str, name: str, value: Any, low: int, high: int) -> None:
+    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+        raise TerrainError(
+            f"{feature}.{name} must be an integer in [{low}, {high}], got {value!r}."
+        )
+
+
 @dataclass(frozen=True)
 class Feature:
     """Base of the terrain features (``start`` [m]: distance ahead of the robot's start)."""
@@ -93,12 +100,7 @@ class Stairs(Feature):
                 "Stairs.rise must not be 0 m: use a positive rise up, negative down."
             )
         set_(self, "run", _number("Stairs", "run", self.run, 0.02, 5.0, "m"))
-        if (
-            isinstance(self.count, bool)
-            or not isinstance(self.count, int)
-            or not 1 <= self.count <= 100
-        ):
-            raise TerrainError(f"Stairs.count must be an integer in [1, 100], got {self.count!r}.")
+        _integer("Stairs", "count", self.count, 1, 100)
 
     @property
     def extent(self) -> float:
@@ -207,14 +209,7 @@ class SteppingStones(Feature):
     def __post_init__(self) -> None:
         super().__post_init__()
         set_ = object.__setattr__
-        if (
-            isinstance(self.count, bool)
-            or not isinstance(self.count, int)
-            or not 1 <= self.count <= 100
-        ):
-            raise TerrainError(
-                f"SteppingStones.count must be an integer in [1, 100], got {self.count!r}."
-            )
+        _integer("SteppingStones", "count", self.count, 1, 100)
         set_(self, "length", _number("SteppingStones", "length", self.length, 0.02, 5.0, "m"))
         set_(self, "gap", _number("SteppingStones", "gap", self.gap, 0.0, 2.0, "m"))
         set_(self, "width", _number("SteppingStones", "width", self.width, 0.02, 5.0, "m"))
@@ -268,8 +263,7 @@ class RoughPatch(Feature):
         set_(self, "width", _number("RoughPatch", "width", self.width, 0.02, 10.0, "m"))
         set_(self, "block", _number("RoughPatch", "block", self.block, 0.01, 2.0, "m"))
         set_(self, "height", _number("RoughPatch", "height", self.height, 0.0, 0.5, "m"))
-        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
-            raise TerrainError(f"RoughPatch.seed must be an integer >= 0, got {self.seed!r}.")
+        _integer("RoughPatch", "seed", self.seed, 0, 2**63 - 1)
 
     @property
     def extent(self) -> float:

@@ -113,7 +113,7 @@ def _support_corners(
     loaded = loaded_soles(log)[ticks]
     soles = log.sole_positions[ticks]  # (n, 2, 3)
     com = log.com[ticks]
-    corners = _sole_corners(
+    corners = sole_corners(
         soles[:, :, :2], log.sole_yaws[ticks], schedule.foot.length, schedule.foot.width
     )  # (n, 2, 4, 2)
     drop = com[:, 2:3] - soles[:, :, 2]  # (n, 2): CoM height above each sole
@@ -129,7 +129,7 @@ def _support_corners(
     return points, valid
 
 
-def _sole_corners(centers: np.ndarray, yaws: np.ndarray, length: float, width: float) -> np.ndarray:
+def sole_corners(centers: np.ndarray, yaws: np.ndarray, length: float, width: float) -> np.ndarray:
     """Corners of flat sole rectangles as :func:`~mpcwalk.models.support_polygon.
     foot_rectangle` places them, for centres (..., 2) and yaws (...): shape (..., 4, 2)."""
     half = 0.5 * np.array([[length, width], [-length, width], [-length, -width], [length, -width]])

@@ -26,6 +26,7 @@ from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.height_profile import height_profile
 from mpcwalk.terrain import Terrain
 from mpcwalk.walking.log import WalkLog
+from mpcwalk.walking.metrics.cop_margins import sole_corners
 
 #: Share of a swing at each end left out of the clearance: lift-off and touch-down.
 APPROACH_SHARE = 0.15
@@ -33,16 +34,6 @@ APPROACH_SHARE = 0.15
 STUB_DEPTH = 0.005
 
 _SIDES = (Side.LEFT, Side.RIGHT)
-
-
-def sole_corners(centers: np.ndarray, yaws: np.ndarray, length: float, width: float) -> np.ndarray:
-    """Corners (x, y) of flat soles, shape (n, 4, 2) for centres (n, >=2) and yaws (n,)."""
-    c, s = np.cos(yaws)[:, None], np.sin(yaws)[:, None]
-    u = 0.5 * length * np.array([1.0, 1.0, -1.0, -1.0])
-    v = 0.5 * width * np.array([1.0, -1.0, 1.0, -1.0])
-    x = centers[:, 0, None] + c * u - s * v
-    y = centers[:, 1, None] + s * u + c * v
-    return np.stack([x, y], axis=-1)
 
 
 def terrain_metrics(
@@ -115,4 +106,4 @@ def _swings(
     return (None if not np.isfinite(lowest) else lowest), stubs
 
 
-__all__ = ["APPROACH_SHARE", "STUB_DEPTH", "sole_corners", "terrain_metrics"]
+__all__ = ["APPROACH_SHARE", "STUB_DEPTH", "terrain_metrics"]
