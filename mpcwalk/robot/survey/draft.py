@@ -1,0 +1,209 @@
+"""A preset drafted from a description alone: what ``mpcwalk robots init`` writes.
+
+:func:`draft_preset` reads a URDF, repairs what MuJoCo refuses, finds the legs, up and
+forward (:mod:`~mpcwalk.robot.survey.legs`), the soles, the torso
+(:mod:`~mpcwalk.robot.survey.upper_body`), solves the walking posture
+(:mod:`~mpcwalk.robot.survey.posture`) and sizes the servos and the gait
+(:mod:`~mpcwalk.robot.survey.rules`). :meth:`PresetDraft.toml` writes it as a preset whose
+every guessed number carries, as a comment, where it came from.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.robot.survey import rules
+from mpcwalk.robot.survey.legs import AXES, LegSurvey, find_legs
+from mpcwalk.robot.survey.posture import Posture, solve_posture
+from mpcwalk.robot.survey.upper_body import joint_loads, standing_torques, torso_frame
+from mpcwalk.robot.urdf_repair import repair_inertias
+
+#: Share of a joint's torque limit its servo may need to stand; beyond, the draft warns.
+TORQUE_SHARE = 0.8
+
+
+@dataclass(frozen=True)
+class Servo:
+    """The drafted servo of one joint, and the standing torque it must hold."""
+
+    joint: str
+    kp: float
+    kv: float
+    armature: float
+    standing_torque: float
+    torque_limit: float
+    rule: str
+
+
+@dataclass(frozen=True)
+class Sole:
+    """A sole in its foot link's frame: centre of its bottom face [m], length and width [m],
+    and where they came from."""
+
+    offset: tuple[float, float, float]
+    size: tuple[float, float]
+    source: str
+
+
+@dataclass(frozen=True)
+class PresetDraft:
+    """Everything :func:`draft_preset` found, and the preset it writes (:meth:`toml`)."""
+
+    name: str
+    description: str
+    legs: LegSurvey
+    soles: tuple[Sole, Sole]
+    torso: tuple[str, str]
+    posture: Posture
+    leg_length: float
+    mass: float
+    servos: tuple[Servo, ...]
+    gait: dict[str, float]
+    repaired_links: tuple[str, ...]
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """What the user should look at before walking (joints outside limits, servos
+        that cannot hold the robot up)."""
+        found = [
+            f"joint {joint} of the walking posture at {angle:.3f} rad is outside its limits "
+            f"[{low:.3f}, {high:.3f}]"
+            for joint, angle, low, high in self.posture.outside_limits
+        ]
+        found += [
+            f"joint {s.joint} needs {abs(s.standing_torque):.1f} N m to stand, "
+            f"{abs(s.standing_torque) / s.torque_limit:.0%} of its limit {s.torque_limit:g} N m"
+            for s in self.servos
+            if s.torque_limit > 0 and abs(s.standing_torque) > TORQUE_SHARE * s.torque_limit
+        ]
+        return tuple(found)
+
+    def toml(self) -> str:
+        """The preset file's text, every guess commented."""
+        from mpcwalk.robot.survey.writer import preset_toml
+
+        return preset_toml(self)
+
+
+def _sole_centre(sole: Sole) -> np.ndarray:
+    return np.asarray(sole.offset, dtype=float)
+
+
+def draft_preset(
+    description: Path,
+    *,
+    name: str | None = None,
+    reference: str = "",
+    soles: tuple[Sole, Sole] | None = None,
+    timestep: float = 0.002,
+) -> PresetDraft:
+    """Draft the preset of the URDF humanoid ``description``.
+
+    Args:
+        description: URDF file.
+        name: Robot name (default: the URDF's ``<robot name>``).
+        reference: How the preset names the description (default: the file's path).
+        soles: Sole of each foot (default: found from the foot's geometry).
+        timestep: Physics time step of the preset [s].
+
+    Raises:
+        ConfigurationError: Not a URDF biped this draft can read (the message says what is
+            missing and that a preset can be written by hand).
+    """
+    if description.suffix.lower() != ".urdf":
+        raise ConfigurationError(
+            f"robots init reads URDF files; got {description.name}. Write an MJCF robot's "
+            "preset by hand (docs: Add a robot)."
+        )
+    text, repaired = repair_inertias(description.read_text())
+    try:
+        model = pin.buildModelFromXML(text, pin.JointModelFreeFlyer())
+    except (RuntimeError, ValueError) as error:
+        raise ConfigurationError(
+            f"Pinocchio cannot read {description.name} ({error}); check it is a valid URDF."
+        ) from error
+    legs = find_legs(model)
+    if soles is None:
+        from mpcwalk.robot.survey.feet import soles_from_geometry
+
+        soles = soles_from_geometry(description, text, model, legs)
+    posture = solve_posture(model, legs, (_sole_centre(soles[0]), _sole_centre(soles[1])))
+    up = AXES[legs.up]
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, posture.q)
+    hip = data.oMi[model.getJointId(legs.left.joints[0])].translation
+    sole_world = data.oMf[model.getFrameId(legs.left.foot)].act(_sole_centre(soles[0]))
+    leg_length = float((hip - sole_world) @ up)
+    mass = float(sum(inertia.mass for inertia in model.inertias[1:]))
+    servos = _servos(model, posture, legs, mass, leg_length, timestep)
+    notes = []
+    if repaired:
+        notes.append(f"repaired the inertia of {len(repaired)} link(s): {', '.join(repaired)}")
+    return PresetDraft(
+        name=name or str(model.name) or description.stem,
+        description=reference or description.as_posix(),
+        legs=legs,
+        soles=soles,
+        torso=torso_frame(model, posture.q, legs),
+        posture=posture,
+        leg_length=leg_length,
+        mass=mass,
+        servos=servos,
+        gait=rules.gait_table(posture.com_height, leg_length, min(s.size[1] for s in soles)),
+        repaired_links=tuple(repaired),
+        notes=tuple(notes),
+    )
+
+
+def _servos(
+    model: pin.Model,
+    posture: Posture,
+    legs: LegSurvey,
+    mass: float,
+    leg_length: float,
+    timestep: float,
+) -> tuple[Servo, ...]:
+    """The servo of every joint by :mod:`~mpcwalk.robot.survey.rules`."""
+    leg_kp = rules.leg_stiffness(mass, leg_length)
+    torques = standing_torques(model, posture.q, (legs.left.foot, legs.right.foot), legs.up)
+    loads = joint_loads(model, posture.q)
+    leg_joints = {*legs.left.joints, *legs.right.joints}
+    servos = []
+    for joint_id in range(2, model.njoints):
+        joint = str(model.names[joint_id])
+        if joint in leg_joints:
+            kp, rule = leg_kp, f"leg: {rules.LEG_STIFFNESS:g} m g l"
+        else:
+            carried, reach = loads[joint]
+            kp = rules.other_stiffness(carried, reach, leg_kp)
+            rule = f"carries {carried:.2f} kg at {reach:.3f} m"
+        limit = float(model.effortLimit[model.idx_vs[joint_id]])
+        servos.append(
+            Servo(
+                joint=joint,
+                kp=_round(kp),
+                kv=_round(rules.damping(kp)),
+                armature=_round(rules.armature(kp, timestep)),
+                standing_torque=torques[joint],
+                torque_limit=limit if math.isfinite(limit) else 0.0,
+                rule=rule,
+            )
+        )
+    return tuple(servos)
+
+
+def _round(value: float, digits: int = 3) -> float:
+    """``value`` to ``digits`` significant digits."""
+    if value == 0.0:
+        return 0.0
+    return round(value, digits - 1 - int(math.floor(math.log10(abs(value)))))
+
+
+__all__ = ["PresetDraft", "Servo", "Sole", "draft_preset"]
