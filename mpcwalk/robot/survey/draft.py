@@ -60,6 +60,7 @@ class PresetDraft:
     legs: LegSurvey
     soles: tuple[Sole, Sole]
     torso: tuple[str, str]
+    imu: tuple[str, str]
     posture: Posture
     leg_length: float
     mass: float
@@ -102,6 +103,7 @@ def draft_preset(
     name: str | None = None,
     reference: str = "",
     soles: tuple[Sole, Sole] | None = None,
+    srdf: str | Path | None = None,
     timestep: float = 0.002,
 ) -> PresetDraft:
     """Draft the preset of the URDF humanoid ``description``.
@@ -111,6 +113,9 @@ def draft_preset(
         name: Robot name (default: the URDF's ``<robot name>``).
         reference: How the preset names the description (default: the file's path).
         soles: Sole of each foot (default: found from the foot's geometry).
+        srdf: An SRDF file whose reference posture (``half_sitting``, ``standing``, else its
+            first ``group_state``) gives the joints outside the legs (arms, head) and the
+            legs' starting point.
         timestep: Physics time step of the preset [s].
 
     Raises:
@@ -134,7 +139,13 @@ def draft_preset(
         from mpcwalk.robot.survey.feet import soles_from_geometry
 
         soles = soles_from_geometry(description, text, model, legs)
-    posture = solve_posture(model, legs, (_sole_centre(soles[0]), _sole_centre(soles[1])))
+    start, notes = None, []
+    if srdf is not None:
+        start, state = _reference_posture(model, Path(srdf))
+        notes.append(f"the joints outside the legs take the SRDF's '{state}' posture")
+    posture = solve_posture(
+        model, legs, (_sole_centre(soles[0]), _sole_centre(soles[1])), q_start=start
+    )
     up = AXES[legs.up]
     data = model.createData()
     pin.framesForwardKinematics(model, data, posture.q)
@@ -143,10 +154,10 @@ def draft_preset(
     leg_length = float((hip - sole_world) @ up)
     mass = float(sum(inertia.mass for inertia in model.inertias[1:]))
     servos = _servos(model, posture, legs, mass, leg_length, timestep)
-    notes = []
     if repaired:
         notes.append(f"repaired the inertia of {len(repaired)} link(s): {', '.join(repaired)}")
     return PresetDraft(
+        imu=_imu_link(model, legs),
         name=name or str(model.name) or description.stem,
         description=reference or description.as_posix(),
         legs=legs,
@@ -160,6 +171,36 @@ def draft_preset(
         repaired_links=tuple(repaired),
         notes=tuple(notes),
     )
+
+
+def _imu_link(model: pin.Model, legs: LegSurvey) -> tuple[str, str]:
+    """The IMU's link and why: a body fixed to the base named like an IMU, else the base
+    (where most humanoids carry it)."""
+    base = next(
+        str(f.name) for f in model.frames if f.parentJoint == 1 and f.type == pin.FrameType.BODY
+    )
+    for frame in model.frames:
+        if frame.parentJoint == 1 and frame.type == pin.FrameType.BODY and "imu" in frame.name.lower():
+            return str(frame.name), "a body fixed to the base, named as an IMU"
+    return base, "the base, where most humanoids carry their IMU; name yours here"
+
+
+def _reference_posture(model: pin.Model, srdf: Path) -> tuple[np.ndarray, str]:
+    """The SRDF's reference configuration (base at the origin) and its name."""
+    if not srdf.is_file():
+        raise ConfigurationError(f"--srdf {srdf} is not a file; give the path of an SRDF file.")
+    try:
+        pin.loadReferenceConfigurations(model, str(srdf), False)
+    except (RuntimeError, ValueError) as error:
+        raise ConfigurationError(f"Pinocchio cannot read the SRDF {srdf.name} ({error}).") from error
+    states = {str(entry.key()): np.array(entry.data()) for entry in model.referenceConfigurations}
+    if not states:
+        raise ConfigurationError(f"The SRDF {srdf.name} has no <group_state> posture.")
+    state = next((s for s in ("half_sitting", "standing") if s in states), next(iter(states)))
+    q = states[state].astype(float)
+    q[:3] = 0.0
+    q[3:7] = (0.0, 0.0, 0.0, 1.0)
+    return q, state
 
 
 def _servos(

@@ -40,11 +40,12 @@ class Posture:
 
     Attributes:
         q: Full configuration (base first) [m, rad].
-        angles: Leg joint angles by joint name [rad].
+        angles: Joint angles by joint name [rad]: every leg joint, and the other joints
+            that are not at 0 (from ``q_start``).
         com_height: CoM above the soles [m].
         residual: Largest remaining error of the solve [m or rad].
-        outside_limits: ``(joint, angle, lower, upper)`` of each leg joint outside its
-            limits.
+        outside_limits: ``(joint, angle, lower, upper)`` of each joint of ``angles`` outside
+            its limits.
     """
 
     q: np.ndarray
@@ -144,13 +145,15 @@ def solve_posture(
     com = pin.centerOfMass(model, data, q)
     sole_height = float(np.mean([data.oMf[f].act(np.asarray(c)) @ up for f, c in zip(feet, sole_centres)]))
     angles, outside = {}, []
-    for joint_id in leg_joints:
+    for joint_id in range(2, model.njoints):
         name = str(model.names[joint_id])
         i = model.idx_qs[joint_id]
-        angle = float(np.arctan2(np.sin(q[i]), np.cos(q[i])))
+        angle = round(float(np.arctan2(np.sin(q[i]), np.cos(q[i]))), 6) + 0.0
+        if joint_id not in leg_joints and angle == 0.0:
+            continue  # the joints outside the legs stay where q_start had them (0)
         angles[name] = angle
         low, high = float(model.lowerPositionLimit[i]), float(model.upperPositionLimit[i])
-        if angle < low - 1e-9 or angle > high + 1e-9:
+        if angle < low - 1e-6 or angle > high + 1e-6:
             outside.append((name, angle, low, high))
     return Posture(
         q=q,

@@ -65,10 +65,7 @@ def preset_toml(draft: PresetDraft) -> str:
     out += [
         "",
         "[imu]",
-        _line(
-            f'frame = "{draft.torso[0] if draft.torso[0] else ""}"',
-            "the torso; name your IMU's link here",
-        ),
+        _line(f'frame = "{draft.imu[0]}"', draft.imu[1]),
         "",
         f"[nominal_posture]                  # [rad] hips at {HIP_HEIGHT_RATIO:.0%} of their "
         "straight height, soles flat, CoM above the soles",
