@@ -50,7 +50,7 @@ def biped_urdf(*, base_yaw: float = 0.0, zero_inertia: int = 0, arms: bool = Tru
 
     parts = ['<robot name="quirky_biped">', _link("trunk", 10.0, (0.15, 0.25, 0.15))]
     zero_left = zero_inertia
-    for side, sign, letter in (("left", 1.0, "p"), ("right", -1.0, "q")):
+    for sign, letter in ((1.0, "p"), (-1.0, "q")):
         links = [f"{letter}{i}" for i in range(6)]
         masses = (0.5, 0.5, 3.0, 2.0, 0.3, 1.0)
         sizes = [(0.05, 0.05, 0.05), (0.05, 0.05, 0.05), (0.08, 0.08, 0.4)]
@@ -63,8 +63,14 @@ def biped_urdf(*, base_yaw: float = 0.0, zero_inertia: int = 0, arms: bool = Tru
             parts.append(_link(name, masses[i], sizes[i], centres[i], zero=zero, collision=i == 5))
         # in the leg's own frames the base's turn carries down: undo it at the hip
         parts += [
-            _joint(f"j{letter}a", "trunk", links[0], turned(0.0, sign * 0.1, -0.1), "0 0 1",
-                   rpy=(0.0, 0.0, -base_yaw)),
+            _joint(
+                f"j{letter}a",
+                "trunk",
+                links[0],
+                turned(0.0, sign * 0.1, -0.1),
+                "0 0 1",
+                rpy=(0.0, 0.0, -base_yaw),
+            ),
             _joint(f"j{letter}b", links[0], links[1], (0, 0, 0), "1 0 0", -0.5, 0.5),
             _joint(f"j{letter}c", links[1], links[2], (0, 0, 0), "0 1 0", -1.5, 0.5),
             _joint(f"j{letter}d", links[2], links[3], (0, 0, -0.4), "0 1 0", -0.05, 2.2),
@@ -73,8 +79,16 @@ def biped_urdf(*, base_yaw: float = 0.0, zero_inertia: int = 0, arms: bool = Tru
         ]
     parts += [
         _link("chest", 8.0, (0.15, 0.3, 0.3), (0, 0, 0.15)),
-        _joint("w1", "trunk", "chest", turned(0.0, 0.0, 0.08), "0 0 1", -0.5, 0.5,
-               rpy=(0.0, 0.0, -base_yaw)),
+        _joint(
+            "w1",
+            "trunk",
+            "chest",
+            turned(0.0, 0.0, 0.08),
+            "0 0 1",
+            -0.5,
+            0.5,
+            rpy=(0.0, 0.0, -base_yaw),
+        ),
     ]
     if arms:
         for sign, letter in ((1.0, "u"), (-1.0, "v")):
@@ -84,7 +98,9 @@ def biped_urdf(*, base_yaw: float = 0.0, zero_inertia: int = 0, arms: bool = Tru
                 _joint(f"{letter}p", "chest", f"{letter}0", (0, sign * 0.2, 0.27), "0 1 0"),
                 _joint(f"{letter}r", f"{letter}0", f"{letter}1", (0, 0, 0), "1 0 0", -0.2, 1.5)
                 if sign > 0
-                else _joint(f"{letter}r", f"{letter}0", f"{letter}1", (0, 0, 0), "1 0 0", -1.5, 0.2),
+                else _joint(
+                    f"{letter}r", f"{letter}0", f"{letter}1", (0, 0, 0), "1 0 0", -1.5, 0.2
+                ),
             ]
     parts.append("</robot>")
     return "\n".join(parts)

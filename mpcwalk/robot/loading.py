@@ -51,7 +51,7 @@ _ERD_DISTRIBUTION = "example-robot-data"
 
 
 @functools.lru_cache(maxsize=1)
-def _example_robot_data_dir() -> Path | None:
+def example_robot_data_dir() -> Path | None:
     """Folder ``.../share/example-robot-data/robots`` of the installed package, or None."""
     try:
         distribution = importlib.metadata.distribution(_ERD_DISTRIBUTION)
@@ -84,7 +84,7 @@ def _description_path(preset: RobotPreset, folder: Path | None = None) -> Path |
     if preset.format == "mjcf":
         path = ROBOTS_DIR / preset.description
     else:
-        root = _example_robot_data_dir()
+        root = example_robot_data_dir()
         path = root / preset.description if root is not None else None
     return path if path is not None and path.is_file() else None
 
@@ -161,7 +161,7 @@ def build_robot(preset: RobotPreset, path: Path, *, visual: bool) -> Robot:
             if repaired
             else pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
         )
-        root = _example_robot_data_dir()
+        root = example_robot_data_dir()
         if root is None:
             raise RobotNotFound(preset.name, robot_names(), "example-robot-data is not installed")
         spec = urdf_spec(path, root, visual, text)

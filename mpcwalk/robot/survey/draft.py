@@ -180,7 +180,11 @@ def _imu_link(model: pin.Model, legs: LegSurvey) -> tuple[str, str]:
         str(f.name) for f in model.frames if f.parentJoint == 1 and f.type == pin.FrameType.BODY
     )
     for frame in model.frames:
-        if frame.parentJoint == 1 and frame.type == pin.FrameType.BODY and "imu" in frame.name.lower():
+        if (
+            frame.parentJoint == 1
+            and frame.type == pin.FrameType.BODY
+            and "imu" in frame.name.lower()
+        ):
             return str(frame.name), "a body fixed to the base, named as an IMU"
     return base, "the base, where most humanoids carry their IMU; name yours here"
 
@@ -192,7 +196,9 @@ def _reference_posture(model: pin.Model, srdf: Path) -> tuple[np.ndarray, str]:
     try:
         pin.loadReferenceConfigurations(model, str(srdf), False)
     except (RuntimeError, ValueError) as error:
-        raise ConfigurationError(f"Pinocchio cannot read the SRDF {srdf.name} ({error}).") from error
+        raise ConfigurationError(
+            f"Pinocchio cannot read the SRDF {srdf.name} ({error})."
+        ) from error
     states = {str(entry.key()): np.array(entry.data()) for entry in model.referenceConfigurations}
     if not states:
         raise ConfigurationError(f"The SRDF {srdf.name} has no <group_state> posture.")

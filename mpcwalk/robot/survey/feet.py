@@ -58,9 +58,7 @@ def _points(geometry) -> np.ndarray | None:
     return _primitive_points(geometry)
 
 
-def foot_points(
-    model: pin.Model, geometry: pin.GeometryModel, foot: str
-) -> np.ndarray:
+def foot_points(model: pin.Model, geometry: pin.GeometryModel, foot: str) -> np.ndarray:
     """Points (n, 3) of the foot's geometry (and of the bodies fixed to it) in the frame of
     the foot link ``foot``."""
     frame = model.frames[model.getFrameId(foot)]

@@ -28,8 +28,9 @@ import pinocchio as pin
 
 from mpcwalk.exceptions import ConfigurationError
 
-#: Fewest joints a chain from the base needs to count as a leg (hip, knee, ankle).
-MIN_LEG_JOINTS = 3
+#: Fewest joints a chain from the base needs to count as a leg (hip pitch and roll, knee,
+#: ankle pitch: no humanoid leg walks with fewer).
+MIN_LEG_JOINTS = 4
 
 #: The six axes a description's root may point forward or up along, by name.
 AXES = {
@@ -135,7 +136,7 @@ def find_legs(model: pin.Model, q: np.ndarray | None = None) -> LegSurvey:
     data = model.createData()
     pin.framesForwardKinematics(model, data, q)
     pin.computeJointJacobians(model, data, q)
-    children = {j: 0 for j in range(model.njoints)}
+    children = dict.fromkeys(range(model.njoints), 0)
     for joint_id in range(2, model.njoints):
         children[model.parents[joint_id]] += 1
     leaves = [

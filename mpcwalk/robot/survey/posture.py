@@ -88,18 +88,20 @@ def solve_posture(
         for leg in (legs.left, legs.right):
             knee = model.getJointId(leg.knee)
             i = model.idx_qs[knee]
-            larger = model.upperPositionLimit[i] if abs(model.upperPositionLimit[i]) > abs(
-                model.lowerPositionLimit[i]
-            ) else model.lowerPositionLimit[i]
+            larger = (
+                model.upperPositionLimit[i]
+                if abs(model.upperPositionLimit[i]) > abs(model.lowerPositionLimit[i])
+                else model.lowerPositionLimit[i]
+            )
             q[i] = 0.3 * float(np.sign(larger))
     feet = [model.getFrameId(leg.foot) for leg in (legs.left, legs.right)]
     pin.framesForwardKinematics(model, data, pin.neutral(model))
     targets = [data.oMf[f].copy() for f in feet]
     soles = [t.act(np.asarray(c, dtype=float)) for t, c in zip(targets, sole_centres)]
     middle = 0.5 * (soles[0] + soles[1])
-    base_height = float(legs.left.hip_position @ up) * hip_height_ratio + float(
-        middle @ up
-    ) * (1.0 - hip_height_ratio)
+    base_height = float(legs.left.hip_position @ up) * hip_height_ratio + float(middle @ up) * (
+        1.0 - hip_height_ratio
+    )
     residual = np.inf
     for _ in range(iterations):
         pin.framesForwardKinematics(model, data, q)
@@ -143,7 +145,9 @@ def solve_posture(
         )
     pin.framesForwardKinematics(model, data, q)
     com = pin.centerOfMass(model, data, q)
-    sole_height = float(np.mean([data.oMf[f].act(np.asarray(c)) @ up for f, c in zip(feet, sole_centres)]))
+    sole_height = float(
+        np.mean([data.oMf[f].act(np.asarray(c)) @ up for f, c in zip(feet, sole_centres)])
+    )
     angles, outside = {}, []
     for joint_id in range(2, model.njoints):
         name = str(model.names[joint_id])

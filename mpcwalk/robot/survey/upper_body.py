@@ -103,9 +103,7 @@ def standing_torques(
     )
     wrenches = np.linalg.lstsq(jacobians[:, :6].T, gravity[:6], rcond=None)[0]
     torques = gravity - jacobians.T @ wrenches
-    return {
-        str(model.names[j]): float(torques[model.idx_vs[j]]) for j in range(2, model.njoints)
-    }
+    return {str(model.names[j]): float(torques[model.idx_vs[j]]) for j in range(2, model.njoints)}
 
 
 __all__ = ["UPRIGHT_TOLERANCE", "joint_loads", "standing_torques", "torso_frame"]

@@ -55,7 +55,9 @@ def preset_toml(draft: PresetDraft) -> str:
         _line(f'up = "{legs.up}"', "from the feet to the hips, legs straight"),
         "",
         "[feet]                             # the two ends of the leg chains",
-        _line(f'left = "{legs.left.foot}"', f"left of up x forward; leg {', '.join(legs.left.joints)}"),
+        _line(
+            f'left = "{legs.left.foot}"', f"left of up x forward; leg {', '.join(legs.left.joints)}"
+        ),
         _line(f'right = "{legs.right.foot}"', f"leg {', '.join(legs.right.joints)}"),
         _line(f"sole_offset = {_vector(left_sole.offset)}", f"[m] {left_sole.source}"),
         _line(f"sole_size = {_vector(left_sole.size)}", "[m] length, width"),
