@@ -193,7 +193,7 @@ def _repair_link(link: ET.Element, must_carry: bool) -> tuple[float, np.ndarray]
 def _rigid_bodies(root: ET.Element) -> list[list[ET.Element]]:
     """The links of each moving rigid body: a link with a moving joint, or the root link,
     then the links fixed to it (recursively)."""
-    links = {link.get("name"): link for link in root.iter("link")}
+    links = {str(link.get("name")): link for link in root.iter("link")}
     children: dict[str, list[tuple[str, bool]]] = {}
     has_parent = set()
     for joint in root.iter("joint"):
@@ -202,7 +202,7 @@ def _rigid_bodies(root: ET.Element) -> list[list[ET.Element]]:
             continue
         moving = joint.get("type") in _MOVING
         children.setdefault(str(parent.get("link")), []).append((str(child.get("link")), moving))
-        has_parent.add(child.get("link"))
+        has_parent.add(str(child.get("link")))
     heads = [name for name in links if name not in has_parent]
     heads += [c for kids in children.values() for c, moving in kids if moving]
     bodies = []
