@@ -30,6 +30,7 @@ import pinocchio as pin
 
 from mpcwalk._checks import frozen_array
 from mpcwalk.exceptions import ConfigurationError, FrameNotFound, RobotNotFound
+from mpcwalk.robot.joint_roles import detect_joint_roles, with_preset_table
 from mpcwalk.robot.package_data import ROBOT_DATA, package_data_dir
 from mpcwalk.robot.preset import RobotPreset
 from mpcwalk.robot.robot import Robot, ServoGains
@@ -231,6 +232,13 @@ def build_robot(preset: RobotPreset, path: Path, *, visual: bool) -> Robot:
         gait=preset.gait,
         leg_limits=preset.gait.leg_limits(_half_stance_width(model, data, q0, (left, right))),
         servo_gains=_servo_gains(mj_model, joint_names),
+        joint_roles=with_preset_table(
+            detect_joint_roles(model, q0, (left, right)),
+            preset.joints,
+            arms=preset.arms,
+            joint_names=joint_names,
+            source=f"Robot preset '{preset.name}'",
+        ),
         _q_index=np.array(q_index),
         _v_index=np.array(v_index),
         _qpos_index=np.array(qpos_index),
