@@ -30,6 +30,7 @@ import pinocchio as pin
 
 from mpcwalk._checks import frozen_array
 from mpcwalk.exceptions import ConfigurationError, FrameNotFound, RobotNotFound
+from mpcwalk.robot.base_orientation import reorient_urdf_root
 from mpcwalk.robot.joint_roles import detect_joint_roles, with_preset_table
 from mpcwalk.robot.package_data import ROBOT_DATA, package_data_dir
 from mpcwalk.robot.preset import RobotPreset
@@ -152,14 +153,22 @@ def build_robot(preset: RobotPreset, path: Path, *, visual: bool) -> Robot:
     """The robot of ``preset`` from its description file ``path`` (:func:`load_robot` once
     it found them)."""
     if preset.format == "mjcf":
+        if (preset.base_forward, preset.base_up) != ("x", "z"):
+            raise ConfigurationError(
+                f"Robot preset '{preset.name}': a [base] table (forward = "
+                f"{preset.base_forward!r}, up = {preset.base_up!r}) is supported for URDF "
+                "descriptions only; turn the root body of the MJCF file instead (its quat)."
+            )
         model = pin.buildModelFromMJCF(str(path))
         spec = mujoco.MjSpec.from_file(str(path))
         foot_frames = preset.foot_frames
     elif preset.format == "urdf":
-        text, repaired = repair_inertias(path.read_text())
+        original = path.read_text()
+        text, _ = repair_inertias(original)
+        text = reorient_urdf_root(text, preset.base_forward, preset.base_up)
         model = (
             pin.buildModelFromXML(text, pin.JointModelFreeFlyer())
-            if repaired
+            if text != original
             else pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
         )
         root = _example_robot_data_dir()

@@ -20,6 +20,7 @@ from typing import Protocol
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.gait.gait_defaults import GaitDefaults
+from mpcwalk.robot.base_orientation import BASE_AXES
 from mpcwalk.robot.joint_roles import ROLE_KEYS
 
 if sys.version_info >= (3, 11):
@@ -174,9 +175,6 @@ def _floats(values, size: int) -> tuple:
         raise ValueError(f"expected {size} numbers, got {len(result)}")
     return result
 
-
-#: The axes a ``[base]`` table may name.
-BASE_AXES = ("x", "-x", "y", "-y", "z", "-z")
 
 #: The keys a preset may have, per table ("" for the top level; [gait] is checked by
 #: GaitDefaults, [nominal_posture] by the robot's joint names, [[actuators]] by ActuatorGains).
