@@ -201,7 +201,7 @@ def detect_joint_roles(model: pin.Model, q: np.ndarray, foot_frames: tuple[str, 
         foot_frames: Left and right foot frames (each ends a leg).
 
     Raises:
-        FrameNotFound-like ConfigurationError: A foot frame that is not in the model.
+        ConfigurationError: A foot frame that is not in the model.
     """
     return _Detection(model, np.asarray(q, dtype=float), foot_frames).roles()
 
@@ -216,7 +216,8 @@ class _Detection:
                     f"Joint roles: foot frame '{frame}' is not in the model; its frames are "
                     f"{', '.join(f.name for f in model.frames)}."
                 )
-        self.model, self.notes = model, []
+        self.model = model
+        self.notes: list[str] = []
         data = model.createData()
         pin.forwardKinematics(model, data, q)
         pin.updateFramePlacements(model, data)
