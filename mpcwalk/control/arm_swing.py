@@ -48,8 +48,8 @@ def arm_swing_for(robot: Robot, factor: float) -> tuple["ArmSwing | None", tuple
     missing = [side for side in SIDES if roles.joint(side, "shoulder_pitch") is None]
     if missing:
         return None, (
-            f"robot '{robot.name}' has no {' and '.join(missing)} shoulder pitch joint (its "
-            "joint roles; a preset's [joints] table names them): it walks without arm swing",
+            f"robot '{robot.name}' has no shoulder pitch joint ({', '.join(missing)}) among its "
+            "joint roles (a preset's [joints] table names them): it walks without arm swing",
         )
     return ArmSwing(robot, factor), ()
 

@@ -14,8 +14,12 @@ actuators) and, for every robot, the floor, a light and the sensors:
   parent link, in the sole frame) and ``{left,right}_foot_touch`` [N] (normal contact force)
   at the sole sites.
 
-The :class:`~mpcwalk.robot.robot.Robot` it returns also carries what MuJoCo knows and the
-controller needs (the servo gains of each joint), read here once.
+A preset's ``[base]`` table turns the root link of a URDF that does not point x forward, z up
+(:mod:`mpcwalk.robot.base_orientation`), in the text both engines load. The
+:class:`~mpcwalk.robot.robot.Robot` it returns also carries what MuJoCo knows and the
+controller needs (the servo gains of each joint), read here once, and the joint roles
+(:mod:`mpcwalk.robot.joint_roles`: found from the kinematics, the preset's ``[joints]`` table
+over them).
 """
 
 import functools

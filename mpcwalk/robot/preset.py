@@ -66,7 +66,8 @@ class RobotPreset:
     Attributes:
         name: Robot name (``bioloid-like``).
         format: ``"mjcf"`` (file in ``robots/``) or ``"urdf"`` (file in example-robot-data).
-        description: Description file, relative to its folder.
+        description: Description file: relative to a user's preset file's folder, else to
+            ``robots/`` (MJCF) or example-robot-data's ``robots/`` (URDF); or absolute.
         foot_frames: Left and right foot frames: sole sites (MJCF) or foot links (URDF).
         sole_size: Sole length and width [m].
         com_height: CoM height above the soles in the nominal posture [m].
