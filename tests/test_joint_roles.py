@@ -2,6 +2,7 @@
 say nothing."""
 
 import math
+import pickle
 
 import numpy as np
 import pinocchio as pin
@@ -71,6 +72,7 @@ def test_detection_finds_the_roles_the_joint_names_imply_on_the_shipped_robots(n
     assert dict(roles.names) == EXPECTED[name]
     assert roles.has_arms and roles.notes == ()
     assert robot.joint_roles == roles  # no shipped preset needs a [joints] table
+    assert pickle.loads(pickle.dumps(robot)).joint_roles == roles  # sweeps send robots
 
 
 def test_every_shipped_robot_is_checked():
