@@ -24,6 +24,7 @@ from mpcwalk.footsteps.footstep import FootGeometry, FootstepPlan
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators import make_generator
 from mpcwalk.models.lipm import LIPM
+from mpcwalk.robot.joint_roles import JointRoles
 from mpcwalk.walking.footstep_planning import plan_walk_footsteps
 from mpcwalk.walking.metrics import attitude_metrics as _attitude_metrics
 from mpcwalk.walking.metrics import yaw_deviation_deg
@@ -186,12 +187,20 @@ def test_gyro_bad_gains_are_named_errors(options, message):
         GyroStabilizer(**options)
 
 
-def test_gyro_needs_leg_joints_it_can_name():
+def test_gyro_finds_its_leg_joints_by_their_roles():
     robot = get_robot("bioloid-like")
-    fake = SimpleNamespace(name="armless", joint_names=("a", "b"))
-    with pytest.raises(ConfigurationError, match="lacks left hip_roll"):
+    names = dict(robot.joint_roles.names, left_hip_roll=None)
+    fake = SimpleNamespace(
+        name="rollless", joint_names=robot.joint_names, joint_roles=JointRoles(names)
+    )
+    with pytest.raises(ConfigurationError, match="gyro stabilizer needs the joints left_hip_roll"):
         GyroStabilizer._leg_joints(fake)
-    assert len(GyroStabilizer._leg_joints(robot)) == 10
+    found = GyroStabilizer._leg_joints(robot)
+    assert [name for _, _, name in found] == [
+        f"{side}_{joint}"
+        for side in ("left", "right")
+        for joint in ("hip_roll", "hip_pitch", "knee", "foot_pitch", "foot_roll")
+    ]
 
 
 # ---------------------------------------------------------------- arm swing

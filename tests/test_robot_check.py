@@ -29,17 +29,19 @@ def _broken(tmp_path, old: str, new: str):
 
 def test_a_crooked_posture_fails_the_posture_check(tmp_path):
     preset = _broken(tmp_path, "left_foot_pitch = -0.38", "left_foot_pitch = -0.2")
-    results = check_robot(preset, walk=False)
-    assert [r.passed for r in results] == [True, True, False]
-    assert (
-        results[-1].name == "the nominal posture is flat"
-        and "L sole not flat" in results[-1].detail
-    )
+    results = {r.name: r for r in check_robot(preset, walk=False)}
+    failed = [name for name, r in results.items() if not r.passed]
+    assert failed == ["the nominal posture is flat"]  # and no simulation after it
+    assert "it stands under its servos" not in results
+    detail = results["the nominal posture is flat"].detail
+    assert "L sole not flat: tilted 10.31 deg" in detail  # 0.18 rad
+    assert "change left_foot_pitch by -0.1800 rad (to -0.3800)" in detail
 
 
 def test_a_wrong_com_height_and_a_missing_frame_are_found(tmp_path, capsys):
     preset = _broken(tmp_path, "com_height = 0.230", "com_height = 0.300")
-    assert "preset says 0.3000 m" in check_robot(preset, walk=False)[-1].detail
+    posture = {r.name: r for r in check_robot(preset, walk=False)}["the nominal posture is flat"]
+    assert "preset says 0.3000 m (set com_height = 0.2303)" in posture.detail
     preset = _broken(tmp_path, 'left = "left_sole"', 'left = "left_toe"')
     assert cli_main(["robots", "check", str(preset)]) == 1
     out = capsys.readouterr().out

@@ -13,9 +13,12 @@ def add_parser(sub) -> argparse.ArgumentParser:
         help="list the robots that load on this machine; 'robots check PRESET' checks one",
         description="List the robots whose description is installed, with their size and "
         "walking defaults. 'mpcwalk robots check NAME|PRESET.toml' runs the checks a preset "
-        "must pass: it loads, Pinocchio and MuJoCo agree, the nominal posture is flat and "
-        "stands under the servos, a short walk with mpc does not fall (exit code 1 when one "
-        "fails).",
+        "must pass: it loads (the URDF inertias repaired for MuJoCo listed), Pinocchio and "
+        "MuJoCo agree, the nominal posture is within the joint limits, its soles flat, its "
+        "torso frame upright, the soles lie on the feet, the servos hold the posture, it "
+        "stands one second under the servos, a short walk with mpc does not fall. Each "
+        "failure prints its numbers and its likely fix. Exit code 1 when a check fails, 2 "
+        "when there is no robot to check (unknown name, no such preset file or description).",
     )
     p.add_argument("action", nargs="?", choices=["check"], help="check one robot")
     p.add_argument("robot", nargs="?", help="robot name or path of a preset file (.toml)")
@@ -25,7 +28,11 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 
 def check(args) -> int:
-    """Run ``mpcwalk robots check ROBOT``: one line per check; 1 when one fails."""
+    """Run ``mpcwalk robots check ROBOT``: one line per check; 1 when one fails.
+
+    Raises:
+        RobotNotFound: No such robot, preset file or description (exit code 2 in ``main``).
+    """
     from mpcwalk.walking.robot_check import check_robot
 
     if not args.robot:

@@ -27,24 +27,39 @@ import pinocchio as pin
 from mpcwalk._checks import checked_number
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.gait.swing_foot import FeetState
+from mpcwalk.robot.joint_roles import SIDES
 from mpcwalk.robot.robot import Robot
 
 
-def _shoulder_pitch_joint(robot: Robot, side: str) -> str:
-    for name in robot.joint_names:
-        if name.startswith(side) and "shoulder_pitch" in name:
-            return name
-    raise ConfigurationError(
-        f"Arm swing needs a '{side}..shoulder_pitch..' joint; robot '{robot.name}' has "
-        f"{', '.join(robot.joint_names)}. Use arm_swing=0 for this robot."
+def arm_swing_for(robot: Robot, factor: float) -> tuple["ArmSwing | None", tuple[str, ...]]:
+    """The arm swing of ``factor`` on ``robot`` (None for 0), and what it left out: on a robot
+    whose joint roles have no shoulder pitch joints (no arms, or shoulders turning about other
+    axes), None and a note saying the robot walks without arm swing.
+
+    Raises:
+        ConfigurationError: A negative or non-finite factor.
+    """
+    factor = checked_number(
+        "The arm swing factor s", factor, low=0.0, fix="paper M uses 0.8, 0 keeps the arms still"
     )
+    if not factor:
+        return None, ()
+    roles = robot.joint_roles
+    missing = [side for side in SIDES if roles.joint(side, "shoulder_pitch") is None]
+    if missing:
+        return None, (
+            f"robot '{robot.name}' has no shoulder pitch joint ({', '.join(missing)}) among its "
+            "joint roles (a preset's [joints] table names them): it walks without arm swing",
+        )
+    return ArmSwing(robot, factor), ()
 
 
 class ArmSwing:
     """Shoulder-pitch angles that swing each hand with the opposite foot.
 
     Args:
-        robot: The robot; its arms are found by their ``shoulder_pitch`` joints.
+        robot: The robot; its arms are found by their shoulder pitch joints
+            (``robot.joint_roles``).
         factor: Arm movement factor s (>= 0; paper M: 0.8).
 
     Raises:
@@ -65,8 +80,11 @@ class ArmSwing:
         pin.updateFramePlacements(model, data)
         pin.computeJointJacobians(model, data, robot.q0)
         indices, nominal, lengths, signs = [], [], [], []
-        for side in ("left", "right"):
-            name = _shoulder_pitch_joint(robot, side)
+        shoulders = robot.joint_roles.require(
+            ("shoulder_pitch",), user="Arm swing (use arm_swing=0 for this robot)", robot=robot.name
+        )
+        for side in SIDES:
+            name = shoulders[f"{side}_shoulder_pitch"]
             joint_id = model.getJointId(name)
             shoulder = data.oMi[joint_id].translation
             subtree = set(model.subtrees[joint_id])

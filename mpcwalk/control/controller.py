@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from mpcwalk.control.arm_swing import ArmSwing
+from mpcwalk.control.arm_swing import arm_swing_for
 from mpcwalk.control.control_output import ControlOutput
 from mpcwalk.control.dcm_feedback import DcmFeedback, measured_com_state, support_weights
 from mpcwalk.control.faults import FaultMonitor, ik_step, step_generator
@@ -79,7 +79,8 @@ class WalkingController:
             when ``feedback`` is False.
         arm_swing: Paper M's arm movement factor s (eq. 24-25; 0.8 in the paper): after the
             IK, the shoulder pitch joints swing each hand with the opposite foot. 0 keeps the
-            arms in their nominal posture.
+            arms in their nominal posture; a robot without shoulder pitch joints walks
+            without it and :attr:`notes` says so.
         heading_hold: Hold the plan's heading (:mod:`mpcwalk.control.heading_hold`); None: on
             with ``feedback`` when the generator follows new footsteps and no stabilizer re-aims.
         terrain: The ground the robot's map holds: the swing feet clear it (None: the floor).
@@ -150,7 +151,7 @@ class WalkingController:
         self.control_period = float(control_period)
         self.stabilizer = stabilizer
         self.balance = make_balance(balance, generator.name) if self.feedback else None
-        self.arm_swing = ArmSwing(robot, arm_swing) if arm_swing else None
+        self.arm_swing, self.notes = arm_swing_for(robot, arm_swing)  # notes: what it left out
         self.heading_hold = HeadingHold.maybe(
             schedule.plan, heading_hold, feedback, generator, stabilizer
         )

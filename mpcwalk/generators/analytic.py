@@ -13,7 +13,11 @@ boundary ``c = p`` so ``c_ddot = 0``). In steady walking consecutive steps
 mirror each other and the jump vanishes; it is large where the gait changes:
 from rest into the first step and from the last step to rest (about 0.2 m/s
 lateral with paper M's Table 1 parameters), and when the command changes. This
-generator is the paper's baseline and keeps that behaviour on purpose.
+generator is the paper's baseline and keeps that behaviour on purpose, except at the start
+and the stop of a robot that cannot follow the jump there (a capturability rule on its
+stance, soles, CoM height and double support,
+:mod:`~mpcwalk.generators.rest_transitions`): there the first step starts, and the last
+ends, at rest.
 """
 
 import math
@@ -25,6 +29,7 @@ from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators.closed_form import ClosedFormGenerator
 from mpcwalk.generators.pattern_generator import GeneratorOutput
+from mpcwalk.generators.rest_transitions import standing_state, start_is_capturable
 from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
 
@@ -260,6 +265,9 @@ class AnalyticGenerator(ClosedFormGenerator):
     Before the first step and after the last one the CoM rests above the
     midpoint of the feet (``x_t[0]``, ``x_t[N]``); ``initial_state`` and the
     measured state are ignored (the boundary conditions are the paper's).
+    Where the robot cannot follow the CoM velocity jump into the first step
+    (out of the last), the walk starts (stops) at rest instead, the CoM shifted
+    in the standing time (:mod:`~mpcwalk.generators.rest_transitions`).
 
     Args:
         lipm: Pendulum model (CoM height, gravity).
@@ -268,15 +276,32 @@ class AnalyticGenerator(ClosedFormGenerator):
             None: the rest of the current step (what the paper plans at once;
             no horizon while standing); 0 (default): no horizon, the cheap
             per-tick path (:meth:`evaluate` gives the CoM at any times).
+        start_at_rest: Start the first step and end the last one at rest; None
+            (default): where the capturability rule says the robot cannot follow
+            the paper's velocity jump; False: always the paper's jumps.
     """
 
     name = "analytic"
 
     def __init__(
-        self, *, lipm: LIPM = LIPM(), control_period: float = 0.01, horizon_time: float | None = 0.0
+        self,
+        *,
+        lipm: LIPM = LIPM(),
+        control_period: float = 0.01,
+        horizon_time: float | None = 0.0,
+        start_at_rest: bool | None = None,
     ) -> None:
         super().__init__(lipm=lipm, control_period=control_period, horizon_time=horizon_time)
+        if start_at_rest is not None and not isinstance(start_at_rest, bool):
+            raise ConfigurationError(
+                f"start_at_rest must be true, false or None (the capturability rule), got "
+                f"{start_at_rest!r}."
+            )
+        self.start_at_rest = start_at_rest
         self.steps: list[ClosedFormStep] = []
+        self.rest_waypoints: tuple[np.ndarray | None, np.ndarray | None] = (None, None)
+        """CoM where the first step starts and the last one ends at rest (None: the paper's
+        waypoints, with its velocity jumps)."""
 
     def _reset(self, schedule: ContactSchedule, initial_state: ComState) -> GeneratorOutput:
         xt, xs = schedule.torso_waypoints, schedule.support_positions
@@ -292,7 +317,45 @@ class AnalyticGenerator(ClosedFormGenerator):
             )
             for k in range(schedule.plan.nb_steps)
         ]
+        self.rest_waypoints = (None, None)
+        if self.steps:
+            self._rest_transitions(schedule)
         return self._make_output(0.0)
+
+    def _at_rest(self, waypoint, support, duration: float) -> bool:
+        if self.start_at_rest is not None:
+            return self.start_at_rest
+        sole_width = self.current_schedule.foot.width
+        return not start_is_capturable(waypoint, support, sole_width, self.lipm.omega, duration)
+
+    def _rest_transitions(self, schedule: ContactSchedule) -> None:
+        """Move the first (last) torso waypoint to where the closed form starts (ends) at
+        rest, where the rule asks for it (the boundary value problem is linear in its
+        waypoints: one more solve gives the velocity per metre of waypoint)."""
+        xt, xs = schedule.torso_waypoints, schedule.support_positions
+        T, t_b, t_e, w = schedule.step_duration, schedule.t_b, schedule.t_e, self.lipm.omega
+        first: np.ndarray | None = None
+        last: np.ndarray | None = None
+        if schedule.walk_start > 0.0 and self._at_rest(xt[0], xs[0], t_b):
+            per_metre = closed_form_step(1.0, 0.0, 0.0, T, t_b, t_e, w).com_velocity(0.0)
+            first = xt[0] - self.steps[0].com_velocity(0.0) / per_metre
+            self.steps[0] = closed_form_step(first, xs[0], xt[1], T, t_b, t_e, w)
+        n = len(self.steps) - 1
+        if schedule.duration > schedule.walk_end and self._at_rest(xt[n + 1], xs[n], T - t_e):
+            per_metre = closed_form_step(0.0, 0.0, 1.0, T, t_b, t_e, w).com_velocity(T)
+            last = xt[n + 1] - self.steps[n].com_velocity(T) / per_metre
+            self.steps[n] = closed_form_step(self.steps[n].x_t0, xs[n], last, T, t_b, t_e, w)
+        self.rest_waypoints = (first, last)
+
+    def _standing(self, t: float) -> np.ndarray:
+        """CoM state (3, 2) before the first step or after the last one."""
+        sched = self.current_schedule
+        return standing_state(
+            t,
+            (sched.walk_start, sched.walk_end, sched.duration),
+            (sched.torso_waypoints[0], sched.torso_waypoints[len(self.steps)]),
+            self.rest_waypoints,
+        )
 
     def _step(self, measured: ComState | None) -> GeneratorOutput:
         return self._make_output((self.tick + 1) * self.control_period)
@@ -313,6 +376,9 @@ class AnalyticGenerator(ClosedFormGenerator):
         N, T = len(self.steps), sched.step_duration
         k = np.floor((t - sched.walk_start) / T).astype(int)
         out[:, 0] = sched.torso_waypoints[np.clip(k, 0, N)]  # standing before / after
+        if any(point is not None for point in self.rest_waypoints):
+            for j in np.flatnonzero((k < 0) | (k >= N)):
+                out[j] = self._standing(float(t[j]))
         for i in np.unique(k[(k >= 0) & (k < N)]):
             sel = k == i
             out[sel] = self.steps[i].state(t[sel] - sched.walk_start - i * T)
@@ -323,9 +389,7 @@ class AnalyticGenerator(ClosedFormGenerator):
         sched = self.current_schedule
         k = int(math.floor((t - sched.walk_start) / sched.step_duration))
         if not 0 <= k < len(self.steps):
-            state = np.zeros((3, 2))
-            state[0] = sched.torso_waypoints[min(max(k, 0), len(self.steps))]
-            return state
+            return self._standing(t)
         return self.steps[k].state_at(t - sched.walk_start - k * sched.step_duration)
 
     def _make_output(self, t: float) -> GeneratorOutput:

@@ -14,8 +14,12 @@ actuators) and, for every robot, the floor, a light and the sensors:
   parent link, in the sole frame) and ``{left,right}_foot_touch`` [N] (normal contact force)
   at the sole sites.
 
-The :class:`~mpcwalk.robot.robot.Robot` it returns also carries what MuJoCo knows and the
-controller needs (the servo gains of each joint), read here once.
+A preset's ``[base]`` table turns the root link of a URDF that does not point x forward, z up
+(:mod:`mpcwalk.robot.base_orientation`), in the text both engines load. The
+:class:`~mpcwalk.robot.robot.Robot` it returns also carries what MuJoCo knows and the
+controller needs (the servo gains of each joint), read here once, and the joint roles
+(:mod:`mpcwalk.robot.joint_roles`: found from the kinematics, the preset's ``[joints]`` table
+over them).
 """
 
 import functools
@@ -30,6 +34,8 @@ import pinocchio as pin
 
 from mpcwalk._checks import frozen_array
 from mpcwalk.exceptions import ConfigurationError, FrameNotFound, RobotNotFound
+from mpcwalk.robot.base_orientation import reorient_urdf_root
+from mpcwalk.robot.joint_roles import detect_joint_roles, with_preset_table
 from mpcwalk.robot.package_data import ROBOT_DATA, package_data_dir
 from mpcwalk.robot.preset import RobotPreset
 from mpcwalk.robot.robot import Robot, ServoGains
@@ -151,14 +157,22 @@ def build_robot(preset: RobotPreset, path: Path, *, visual: bool) -> Robot:
     """The robot of ``preset`` from its description file ``path`` (:func:`load_robot` once
     it found them)."""
     if preset.format == "mjcf":
+        if (preset.base_forward, preset.base_up) != ("x", "z"):
+            raise ConfigurationError(
+                f"Robot preset '{preset.name}': a [base] table (forward = "
+                f"{preset.base_forward!r}, up = {preset.base_up!r}) is supported for URDF "
+                "descriptions only; turn the root body of the MJCF file instead (its quat)."
+            )
         model = pin.buildModelFromMJCF(str(path))
         spec = mujoco.MjSpec.from_file(str(path))
         foot_frames = preset.foot_frames
     elif preset.format == "urdf":
-        text, repaired = repair_inertias(path.read_text())
+        original = path.read_text()
+        text, _ = repair_inertias(original)
+        text = reorient_urdf_root(text, preset.base_forward, preset.base_up)
         model = (
             pin.buildModelFromXML(text, pin.JointModelFreeFlyer())
-            if repaired
+            if text != original
             else pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
         )
         root = example_robot_data_dir()
@@ -231,6 +245,13 @@ def build_robot(preset: RobotPreset, path: Path, *, visual: bool) -> Robot:
         gait=preset.gait,
         leg_limits=preset.gait.leg_limits(_half_stance_width(model, data, q0, (left, right))),
         servo_gains=_servo_gains(mj_model, joint_names),
+        joint_roles=with_preset_table(
+            detect_joint_roles(model, q0, (left, right)),
+            preset.joints,
+            arms=preset.arms,
+            joint_names=joint_names,
+            source=f"Robot preset '{preset.name}'",
+        ),
         _q_index=np.array(q_index),
         _v_index=np.array(v_index),
         _qpos_index=np.array(qpos_index),

@@ -4,7 +4,12 @@ A preset (``robots/presets/<name>.toml``) names the description file, the two fo
 the sole size, the nominal walking posture and its CoM height, the IMU site and, for URDF
 models, the actuator gains; its optional ``[gait]`` table holds the robot's walking defaults,
 read once, here, by :meth:`~mpcwalk.gait.gait_defaults.GaitDefaults.from_table` (an unknown
-key is refused with the valid names).
+key is refused with the valid names). Its optional ``[joints]`` table names the joint of a role
+(``left_knee = "..."``) where the detection from the kinematics
+(:mod:`mpcwalk.robot.joint_roles`) is wrong or finds none, and ``arms = false`` declares a
+robot without arms; its optional ``[base]`` table says which axes of the description's root
+link point forward and up (``forward = "-x"`` for a description whose base x axis points
+backward).
 """
 
 from __future__ import annotations
@@ -15,6 +20,8 @@ from typing import Protocol
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.gait.gait_defaults import GaitDefaults
+from mpcwalk.robot.base_orientation import BASE_AXES
+from mpcwalk.robot.joint_roles import ROLE_KEYS
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -59,7 +66,8 @@ class RobotPreset:
     Attributes:
         name: Robot name (``bioloid-like``).
         format: ``"mjcf"`` (file in ``robots/``) or ``"urdf"`` (file in example-robot-data).
-        description: Description file, relative to its folder.
+        description: Description file: relative to a user's preset file's folder, else to
+            ``robots/`` (MJCF) or example-robot-data's ``robots/`` (URDF); or absolute.
         foot_frames: Left and right foot frames: sole sites (MJCF) or foot links (URDF).
         sole_size: Sole length and width [m].
         com_height: CoM height above the soles in the nominal posture [m].
@@ -74,6 +82,12 @@ class RobotPreset:
         gait: Walking defaults of the ``[gait]`` table (step duration [s], double-support
             ratio, step height [m], leg limits [m] / [rad], MPC horizon, feedback gains);
             the defaults of :class:`GaitDefaults` where the preset has none.
+        joints: Joint name by role key (``left_knee``...) of the ``[joints]`` table, over the
+            roles found from the kinematics (checked against the joints at load).
+        arms: False when the ``[joints]`` table says ``arms = false``: no arm roles.
+        base_forward: Axis of the description's root link that points forward (``"x"``,
+            ``"-x"``, ``"y"``, ``"-y"``, ``"z"``, ``"-z"``) from the ``[base]`` table.
+        base_up: Axis of the description's root link that points up (same values).
     """
 
     name: str
@@ -91,6 +105,19 @@ class RobotPreset:
     actuators: tuple[ActuatorGains, ...] = ()
     timestep: float = 0.002
     gait: GaitDefaults = field(default_factory=GaitDefaults)
+    joints: dict[str, str] = field(default_factory=dict)
+    arms: bool = True
+    base_forward: str = "x"
+    base_up: str = "z"
+
+    def __post_init__(self) -> None:
+        axes = (self.base_forward, self.base_up)
+        if any(axis not in BASE_AXES for axis in axes) or self.base_forward[-1] == self.base_up[-1]:
+            raise ConfigurationError(
+                f"Robot preset '{self.name}': [base] forward = {self.base_forward!r}, up = "
+                f"{self.base_up!r}; each must be one of {', '.join(BASE_AXES)}, the two along "
+                'different axes (the default: forward = "x", up = "z").'
+            )
 
     @staticmethod
     def from_file(path: PresetFile) -> RobotPreset:
@@ -104,6 +131,13 @@ class RobotPreset:
             raw = tomllib.loads(path.read_text())
             _check_keys(raw, path.name)
             feet, imu = raw.get("feet", {}), raw.get("imu", {})
+            joints, base = dict(raw.get("joints", {})), raw.get("base", {})
+            arms = joints.pop("arms", True)
+            if not isinstance(arms, bool) or not all(isinstance(v, str) for v in joints.values()):
+                raise ConfigurationError(
+                    f"Robot preset {path.name}: [joints] maps roles to joint names (strings) "
+                    f"and arms to true or false; got {raw.get('joints')}."
+                )
             gait = GaitDefaults.from_table(raw.get("gait", {}), source=f"Robot preset {path.name}")
             return RobotPreset(
                 name=raw["name"],
@@ -121,6 +155,10 @@ class RobotPreset:
                 actuators=tuple(ActuatorGains(**a) for a in raw.get("actuators", [])),
                 timestep=float(raw.get("timestep", 0.002)),
                 gait=gait,
+                joints=joints,
+                arms=arms,
+                base_forward=str(base.get("forward", "x")),
+                base_up=str(base.get("up", "z")),
             )
         except ConfigurationError:
             raise
@@ -154,9 +192,13 @@ _PRESET_KEYS = {
         "gait",
         "nominal_posture",
         "actuators",
+        "joints",
+        "base",
     ),
     "feet": ("left", "right", "sole_size", "sole_offset", "sole_thickness"),
     "imu": ("frame", "offset"),
+    "joints": (*ROLE_KEYS, "arms"),
+    "base": ("forward", "up"),
 }
 
 

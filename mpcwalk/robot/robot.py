@@ -25,6 +25,7 @@ import pinocchio as pin
 from mpcwalk.exceptions import ConfigurationError, FrameNotFound
 from mpcwalk.footsteps import Footstep, LegLimits, Side
 from mpcwalk.gait.gait_defaults import GaitDefaults
+from mpcwalk.robot.joint_roles import JointRoles
 from mpcwalk.robot.preset import RobotPreset
 
 if TYPE_CHECKING:
@@ -71,6 +72,9 @@ class Robot:
             stance width of ``q0`` where the table has none, the :class:`LegLimits` defaults
             for the rest.
         servo_gains: Position servo stiffness, damping and torque limit of each joint.
+        joint_roles: The joint of each role (hip roll, knee, shoulder pitch...) on each side:
+            found from the kinematics at ``q0``, the preset's ``[joints]`` table over them
+            (:mod:`mpcwalk.robot.joint_roles`).
 
     The legs' traits are found from the kinematic tree, the same way for every robot:
     :attr:`hip_joints` (the first joint of each leg from the base) and :attr:`leg_length`
@@ -92,6 +96,7 @@ class Robot:
     gait: GaitDefaults
     leg_limits: LegLimits
     servo_gains: ServoGains
+    joint_roles: JointRoles
     _q_index: np.ndarray = field(repr=False)
     _v_index: np.ndarray = field(repr=False)
     _qpos_index: np.ndarray = field(repr=False)

@@ -179,6 +179,8 @@ def _walk(
         com_height=robot.com_height,
     )
     metrics = with_outcome(metrics, outcome, walker.faults)
+    if walker.notes:  # what the controller left out of its specification (arms to swing)
+        metrics = dataclasses.replace(metrics, warnings=(*walker.notes, *metrics.warnings))
     config = _config(setup, walker, outcome)
     generator = spec.controller.generator
     return WalkResult(

@@ -82,21 +82,19 @@ class AnkleImuStabilizer(Stabilizer):
 
     @staticmethod
     def _ankle_joints(robot: Robot) -> dict[Side, tuple[int, int]]:
-        """Indices of each side's ankle pitch and roll joints in ``robot.joint_names``."""
+        """Indices of each side's ankle pitch and roll joints in ``robot.joint_names`` (its
+        joint roles)."""
+        joints = robot.joint_roles.require(
+            ("ankle_pitch", "ankle_roll"), user="The ankle-imu stabilizer", robot=robot.name
+        )
         names = list(robot.joint_names)
-        try:
-            return {
-                side: (
-                    names.index(f"{side.value}_ankle_pitch"),
-                    names.index(f"{side.value}_ankle_roll"),
-                )
-                for side in Side
-            }
-        except ValueError:
-            raise ConfigurationError(
-                f"The ankle-imu stabilizer needs joints '<side>_ankle_pitch' and "
-                f"'<side>_ankle_roll'; robot '{robot.name}' has {', '.join(names)}."
-            ) from None
+        return {
+            side: (
+                names.index(joints[f"{side.value}_ankle_pitch"]),
+                names.index(joints[f"{side.value}_ankle_roll"]),
+            )
+            for side in Side
+        }
 
     def _filter(
         self, roll: float, pitch: float, reference_base_quaternion: np.ndarray, dt: float

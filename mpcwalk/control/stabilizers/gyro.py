@@ -31,7 +31,7 @@ import pinocchio as pin
 from mpcwalk._checks import checked_number
 from mpcwalk.control.stabilizers.base import Stabilizer, StabilizerInput
 from mpcwalk.estimation.estimated_state import EstimatedState
-from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.robot.joint_roles import SIDES
 from mpcwalk.robot.robot import Robot
 
 #: Paper M's gains [s]: hip roll, hip pitch, knee, foot pitch, foot roll.
@@ -44,13 +44,13 @@ PAPER_M_GAINS = {
 }
 
 #: Joint of each gain: the rate it answers (0 roll, 1 pitch), the world axis its sign is
-#: taken from, and the joint-name fragments that identify it on a leg (first match wins).
+#: taken from, and the leg role of its joint (``robot.joint_roles``).
 _JOINTS = {
-    "hip_roll": (0, ("hip_roll",)),
-    "hip_pitch": (1, ("hip_pitch",)),
-    "knee": (1, ("knee",)),
-    "foot_pitch": (1, ("foot_pitch", "ankle_pitch")),
-    "foot_roll": (0, ("foot_roll", "ankle_roll")),
+    "hip_roll": (0, "hip_roll"),
+    "hip_pitch": (1, "hip_pitch"),
+    "knee": (1, "knee"),
+    "foot_pitch": (1, "ankle_pitch"),
+    "foot_roll": (0, "ankle_roll"),
 }
 
 
@@ -152,23 +152,15 @@ class GyroStabilizer(Stabilizer):
     @staticmethod
     def _leg_joints(robot: Robot) -> list[tuple[str, int, str]]:
         """(gain name, joint index in robot.joint_names, joint name) of both legs."""
+        joints = robot.joint_roles.require(
+            [role for _, role in _JOINTS.values()], user="The gyro stabilizer", robot=robot.name
+        )
         names = list(robot.joint_names)
-        found, missing = [], []
-        for side in ("left", "right"):
-            leg = [n for n in names if n.startswith((side, side[0] + "_"))]
-            for key, (_, fragments) in _JOINTS.items():
-                match = next((n for fragment in fragments for n in leg if fragment in n), None)
-                if match is None:
-                    missing.append(f"{side} {key}")
-                else:
-                    found.append((key, names.index(match), match))
-        if missing:
-            raise ConfigurationError(
-                f"The gyro stabilizer needs the leg joints hip roll, hip pitch, knee, foot (or "
-                f"ankle) pitch and roll on both legs; robot '{robot.name}' lacks "
-                f"{', '.join(missing)} among {', '.join(names)}."
-            )
-        return found
+        return [
+            (key, names.index(joints[f"{side}_{role}"]), joints[f"{side}_{role}"])
+            for side in SIDES
+            for key, (_, role) in _JOINTS.items()
+        ]
 
     def reset(self, inputs: StabilizerInput) -> None:
         """Find the leg joints of ``inputs.robot`` and the signs of their offsets."""

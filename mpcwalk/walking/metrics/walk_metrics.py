@@ -99,7 +99,8 @@ class WalkMetrics:
         fallback_ticks: Ticks with any fault (a failed solve included).
         warnings: What makes the walk far from its plan though it did not fall
             (:func:`sanity_warnings`): large unplanned yaw, CoP long outside the soles,
-            landings far from their footsteps.
+            landings far from their footsteps; and, first, what the controller left out
+            of its specification (the arm swing of a robot without shoulder pitch joints).
         landing_error_3d_cm_mean: On a terrain (None on the floor): landed sole centre
             against its footstep in 3D [cm]; ``_max``: the largest.
         landing_height_error_cm_max: On a terrain: largest landing height error [cm].
