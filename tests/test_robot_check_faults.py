@@ -8,12 +8,12 @@ import pytest
 from mpcwalk.cli import main as cli_main
 from mpcwalk.robot import load_robot
 from mpcwalk.robot.footprint import sole_from_geometry
-from mpcwalk.robot.loading import _example_robot_data_dir
+from mpcwalk.robot.loading import example_robot_data_dir
 from mpcwalk.walking.body_checks import standing_torques
 from mpcwalk.walking.robot_check import check_robot
 
 pytestmark = pytest.mark.skipif(
-    _example_robot_data_dir() is None,
+    example_robot_data_dir() is None,
     reason="the loader needs example-robot-data for any URDF robot",
 )
 

@@ -70,13 +70,23 @@ def test_g1_soles_are_its_contact_points():
     # hand reads "sole_offset = [0.035, 0.0, -0.035]" from them
     assert ROOT is not None
     path = ROOT / "g1_description/urdf/g1_29dof_rev_1_0.urdf"
-    text = repair_inertias(path.read_text())[0]
-    model = _model(text)
-    left, right = soles_from_geometry(path, text, model, find_legs(model))
+    left, right = soles_from_geometry(path, find_legs(_model(path.read_text())))
     assert left.offset == pytest.approx((0.035, 0.0, -0.035), abs=1e-3)
     assert left.size[1] == pytest.approx(0.07, abs=2e-3)
     assert right.offset == pytest.approx(left.offset, abs=1e-3)
     assert "collision" in left.source
+
+
+@needs_robots
+def test_romeo_soles_are_read_from_its_collada_feet():
+    # MuJoCo reads no Collada mesh: Pinocchio measures Romeo's feet (the shipped preset uses
+    # the URDF's own sole frames, 0.0675 m below the ankle, and a 0.20 x 0.10 m sole)
+    assert ROOT is not None
+    path = ROOT / "romeo_description/urdf/romeo.urdf"
+    left, right = soles_from_geometry(path, find_legs(_model(path.read_text())))
+    assert left.offset[2] == pytest.approx(-0.0675, abs=1e-3)
+    assert 0.15 < left.size[0] < 0.25 and 0.08 < left.size[1] < 0.14
+    assert right.offset[1] == pytest.approx(-left.offset[1], abs=1e-3)  # mirrored
 
 
 def test_posture_is_flat_bent_and_balanced():

@@ -195,9 +195,9 @@ def test_a_massless_moving_link_holding_a_point_mass_is_repaired():
 def test_every_example_robot_data_urdf_mujoco_refuses_compiles_once_repaired():
     """The URDFs of example-robot-data: 21 of them MuJoCo refuses as written (zero masses,
     negative eigenvalues, the triangle inequality); each compiles once repaired."""
-    from mpcwalk.robot.loading import _example_robot_data_dir
+    from mpcwalk.robot.loading import example_robot_data_dir
 
-    root = _example_robot_data_dir()
+    root = example_robot_data_dir()
     if root is None:
         pytest.skip("example-robot-data is not installed")
     refused = 0

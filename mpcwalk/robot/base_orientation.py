@@ -16,7 +16,8 @@ import pinocchio as pin
 
 from mpcwalk.exceptions import ConfigurationError
 
-_AXES = {
+#: The unit vector of each axis name a ``[base]`` table may use.
+AXIS_VECTORS = {
     "x": (1.0, 0.0, 0.0),
     "-x": (-1.0, 0.0, 0.0),
     "y": (0.0, 1.0, 0.0),
@@ -25,7 +26,7 @@ _AXES = {
     "-z": (0.0, 0.0, -1.0),
 }
 
-BASE_AXES = tuple(_AXES)
+BASE_AXES = tuple(AXIS_VECTORS)
 """The axes a preset's ``[base]`` table may name."""
 
 
@@ -37,12 +38,12 @@ def base_rotation(forward: str, up: str) -> np.ndarray:
     Raises:
         ConfigurationError: An unknown axis, or ``forward`` and ``up`` along one axis.
     """
-    if forward not in _AXES or up not in _AXES or forward[-1] == up[-1]:
+    if forward not in AXIS_VECTORS or up not in AXIS_VECTORS or forward[-1] == up[-1]:
         raise ConfigurationError(
             f"The base axes forward = {forward!r}, up = {up!r} are not two different axes "
-            f"among {', '.join(_AXES)}."
+            f"among {', '.join(AXIS_VECTORS)}."
         )
-    x_axis, z_axis = np.array(_AXES[forward]), np.array(_AXES[up])
+    x_axis, z_axis = np.array(AXIS_VECTORS[forward]), np.array(AXIS_VECTORS[up])
     return np.column_stack([x_axis, np.cross(z_axis, x_axis), z_axis])
 
 
@@ -94,4 +95,9 @@ def reorient_urdf_root(text: str, forward: str, up: str) -> str:
     return ET.tostring(root, encoding="unicode")
 
 
-__all__ = ["BASE_AXES", "base_rotation", "reorient_urdf_root"]
+__all__ = [
+    "AXIS_VECTORS",
+    "BASE_AXES",
+    "base_rotation",
+    "reorient_urdf_root",
+]

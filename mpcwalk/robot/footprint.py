@@ -8,8 +8,10 @@ lowest height the sole centre. It gives a preset's ``sole_offset`` (URDF) and
 ``sole_size``, and ``mpcwalk robots check`` compares it with the preset's.
 
 Shapes: boxes by their corners, spheres, ellipsoids, cylinders and capsules by points on
-their surface, meshes by their vertices (STL, OBJ and MuJoCo's MSH; other mesh formats,
-Collada for one, are not read). ``package://NAME/...`` mesh files are looked for in
+their surface, meshes by their vertices (STL, OBJ and MuJoCo's MSH). A URDF foot whose
+shapes MuJoCo does not read (Collada meshes, as Romeo's and iCub's) is measured on the same
+shapes read by Pinocchio (:func:`urdf_foot_points`: any mesh format it reads, primitives by
+their bounding boxes). ``package://NAME/...`` mesh files are looked for in
 ``package_dirs`` and in the folders above the description.
 """
 
@@ -23,6 +25,7 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
+import pinocchio as pin
 
 from mpcwalk.exceptions import ConfigurationError, FrameNotFound
 from mpcwalk.robot.urdf_repair import repair_inertias
@@ -106,8 +109,8 @@ def sole_from_geometry(
             return found[kind]
     raise ConfigurationError(
         f"Foot '{foot}' of {Path(description).name} has no {' or '.join(kinds)} shape that "
-        "MuJoCo reads (boxes, spheres, cylinders, capsules, STL/OBJ meshes); measure its sole "
-        "by hand for the preset's sole_offset and sole_size."
+        "MuJoCo or Pinocchio reads; measure its sole by hand for the preset's sole_offset "
+        "and sole_size."
     )
 
 
@@ -153,7 +156,73 @@ def foot_footprints(
             if points:
                 local = (np.concatenate(points) - origin) @ rotation  # into the foot frame
                 result[foot][kind] = _footprint(local, layer, kind)
+    path = Path(description)
+    if path.suffix.lower() == ".urdf" and not all(len(found) == 2 for found in result.values()):
+        for kind in ("collision", "visual"):
+            missing = [foot for foot in feet if kind not in result[foot]]
+            if not missing:
+                continue
+            for foot, local in urdf_foot_points(path, missing, kind, package_dirs).items():
+                if len(local) >= 3:
+                    result[foot][kind] = _footprint(local, layer, kind)
     return result
+
+
+def urdf_foot_points(
+    description: Path,
+    feet: Sequence[str],
+    kind: str,
+    package_dirs: Sequence[str | Path] = (),
+) -> dict[str, np.ndarray]:
+    """Points (n, 3) of each foot link's ``kind`` shapes (``"collision"`` or ``"visual"``),
+    and of the links fixed to it, in the foot link's frame, read by Pinocchio (every mesh
+    format it reads; primitives by the corners of their bounding boxes); an empty array for
+    a foot without such shapes or when the shapes cannot be read."""
+    text = repair_inertias(description.read_text())[0]
+    model = pin.buildModelFromXML(text)
+    folders = [str(d) for d in package_dirs]
+    folders += [str(d) for d in description.resolve().parents][:6]
+    geometry_type = pin.GeometryType.COLLISION if kind == "collision" else pin.GeometryType.VISUAL
+    empty = {foot: np.zeros((0, 3)) for foot in feet}
+    try:
+        geometry = pin.buildGeomFromUrdfString(model, text, geometry_type, package_dirs=folders)
+    except (RuntimeError, ValueError):
+        return empty
+    result = {}
+    for foot in feet:
+        if not model.existFrame(foot):
+            result[foot] = empty[foot]
+            continue
+        frame = model.frames[model.getFrameId(foot)]
+        to_foot = frame.placement.inverse()
+        points = []
+        for item in geometry.geometryObjects:
+            local = _shape_points(item.geometry) if item.parentJoint == frame.parentJoint else None
+            if local is not None and len(local):
+                placement = to_foot * item.placement
+                points.append(local @ placement.rotation.T + placement.translation)
+        result[foot] = np.vstack(points) if points else empty[foot]
+    return result
+
+
+def _shape_points(shape) -> np.ndarray | None:
+    """Mesh vertices, or the corners of a primitive's bounding box, in the shape's frame."""
+    if hasattr(shape, "vertices"):
+        try:
+            return np.asarray(shape.vertices(), dtype=float)
+        except (RuntimeError, TypeError):
+            return None
+    if hasattr(shape, "halfSide"):
+        half = np.asarray(shape.halfSide, dtype=float)
+    elif hasattr(shape, "radius") and hasattr(shape, "halfLength"):
+        capsule = type(shape).__name__ == "Capsule"
+        half = np.array([shape.radius, shape.radius, shape.halfLength + capsule * shape.radius])
+    elif hasattr(shape, "radius"):
+        half = np.full(3, float(shape.radius))
+    else:
+        return None
+    corners = np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).reshape(3, -1).T
+    return corners * half
 
 
 def _collides(model: mujoco.MjModel, geom: int) -> bool:
@@ -269,4 +338,10 @@ def _readable(file: str, meshdir: str, description: Path) -> bool:
     return any(candidate.is_file() for candidate in candidates)
 
 
-__all__ = ["DEFAULT_LAYER", "SoleFootprint", "foot_footprints", "sole_from_geometry"]
+__all__ = [
+    "DEFAULT_LAYER",
+    "SoleFootprint",
+    "foot_footprints",
+    "sole_from_geometry",
+    "urdf_foot_points",
+]

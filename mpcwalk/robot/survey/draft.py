@@ -18,6 +18,8 @@ import numpy as np
 import pinocchio as pin
 
 from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.robot.base_orientation import reorient_urdf_root
+from mpcwalk.robot.joint_roles import JointRoles, detect_joint_roles
 from mpcwalk.robot.survey import rules
 from mpcwalk.robot.survey.legs import AXES, LegSurvey, find_legs
 from mpcwalk.robot.survey.posture import Posture, solve_posture
@@ -53,11 +55,16 @@ class Sole:
 
 @dataclass(frozen=True)
 class PresetDraft:
-    """Everything :func:`draft_preset` found, and the preset it writes (:meth:`toml`)."""
+    """Everything :func:`draft_preset` found, and the preset it writes (:meth:`toml`).
+
+    ``base`` holds the description root's forward and up axes; ``legs`` and everything
+    after it are in the loader's frame (the root re-expressed x forward, z up)."""
 
     name: str
     description: str
+    base: tuple[str, str]
     legs: LegSurvey
+    roles: JointRoles
     soles: tuple[Sole, Sole]
     torso: tuple[str, str]
     imu: tuple[str, str]
@@ -134,11 +141,16 @@ def draft_preset(
         raise ConfigurationError(
             f"Pinocchio cannot read {description.name} ({error}); check it is a valid URDF."
         ) from error
+    described = find_legs(model)
+    if (described.forward, described.up) != ("x", "z"):
+        # from here on in the loader's frame: the root re-expressed x forward, z up
+        text = reorient_urdf_root(text, described.forward, described.up)
+        model = pin.buildModelFromXML(text, pin.JointModelFreeFlyer())
     legs = find_legs(model)
     if soles is None:
         from mpcwalk.robot.survey.feet import soles_from_geometry
 
-        soles = soles_from_geometry(description, text, model, legs)
+        soles = soles_from_geometry(description, legs)
     start, notes = None, []
     if srdf is not None:
         start, state = _reference_posture(model, Path(srdf))
@@ -156,7 +168,11 @@ def draft_preset(
     servos = _servos(model, posture, legs, mass, leg_length, timestep)
     if repaired:
         notes.append(f"repaired the inertia of {len(repaired)} link(s): {', '.join(repaired)}")
+    roles = detect_joint_roles(model, posture.q, (legs.left.foot, legs.right.foot))
+    notes += list(roles.notes)
     return PresetDraft(
+        base=(described.forward, described.up),
+        roles=roles,
         imu=_imu_link(model, legs),
         name=name or str(model.name) or description.stem,
         description=reference or description.as_posix(),

@@ -27,20 +27,15 @@ import numpy as np
 import pinocchio as pin
 
 from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.robot.base_orientation import AXIS_VECTORS
 
 #: Fewest joints a chain from the base needs to count as a leg (hip pitch and roll, knee,
 #: ankle pitch: no humanoid leg walks with fewer).
 MIN_LEG_JOINTS = 4
 
-#: The six axes a description's root may point forward or up along, by name.
-AXES = {
-    "x": np.array([1.0, 0.0, 0.0]),
-    "-x": np.array([-1.0, 0.0, 0.0]),
-    "y": np.array([0.0, 1.0, 0.0]),
-    "-y": np.array([0.0, -1.0, 0.0]),
-    "z": np.array([0.0, 0.0, 1.0]),
-    "-z": np.array([0.0, 0.0, -1.0]),
-}
+#: The six axes a description's root may point forward or up along, by name (a preset's
+#: ``[base]`` table names them the same way).
+AXES = {name: np.array(vector) for name, vector in AXIS_VECTORS.items()}
 
 
 @dataclass(frozen=True)

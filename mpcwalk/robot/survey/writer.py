@@ -49,10 +49,10 @@ def preset_toml(draft: PresetDraft) -> str:
         "",
         "[base]                             # axes of the description's root link",
         _line(
-            f'forward = "{legs.forward}"',
+            f'forward = "{draft.base[0]}"',
             "the knees bend towards their larger range, the feet go back",
         ),
-        _line(f'up = "{legs.up}"', "from the feet to the hips, legs straight"),
+        _line(f'up = "{draft.base[1]}"', "from the feet to the hips, legs straight"),
         "",
         "[feet]                             # the two ends of the leg chains",
         _line(
@@ -68,6 +68,13 @@ def preset_toml(draft: PresetDraft) -> str:
         "",
         "[imu]",
         _line(f'frame = "{draft.imu[0]}"', draft.imu[1]),
+        "",
+        "[joints]                           # roles from the axes and the chain order",
+    ]
+    out += [f'{key} = "{joint}"' for key, joint in draft.roles.names.items() if joint]
+    if not draft.roles.has_arms:
+        out.append(_line("arms = false", "no arm found: paper M walks without arm swing"))
+    out += [
         "",
         f"[nominal_posture]                  # [rad] hips at {HIP_HEIGHT_RATIO:.0%} of their "
         "straight height, soles flat, CoM above the soles",
