@@ -70,7 +70,8 @@ def test_g1_soles_are_its_contact_points():
     # hand reads "sole_offset = [0.035, 0.0, -0.035]" from them
     assert ROOT is not None
     path = ROOT / "g1_description/urdf/g1_29dof_rev_1_0.urdf"
-    left, right = soles_from_geometry(path, find_legs(_model(path.read_text())))
+    model = _model(path.read_text())
+    left, right = soles_from_geometry(path, model, find_legs(model))
     assert left.offset == pytest.approx((0.035, 0.0, -0.035), abs=1e-3)
     assert left.size[1] == pytest.approx(0.07, abs=2e-3)
     assert right.offset == pytest.approx(left.offset, abs=1e-3)
@@ -83,7 +84,8 @@ def test_romeo_soles_are_read_from_its_collada_feet():
     # the URDF's own sole frames, 0.0675 m below the ankle, and a 0.20 x 0.10 m sole)
     assert ROOT is not None
     path = ROOT / "romeo_description/urdf/romeo.urdf"
-    left, right = soles_from_geometry(path, find_legs(_model(path.read_text())))
+    model = _model(path.read_text())
+    left, right = soles_from_geometry(path, model, find_legs(model))
     assert left.offset[2] == pytest.approx(-0.0675, abs=1e-3)
     assert 0.15 < left.size[0] < 0.25 and 0.08 < left.size[1] < 0.14
     assert right.offset[1] == pytest.approx(-left.offset[1], abs=1e-3)  # mirrored
@@ -124,6 +126,6 @@ def test_draft_lists_repairs_and_writes_every_guess(tmp_path):
     text = draft.toml()
     for expected in ('forward = "-x"', 'left = "p5"', "jpd = 0.", "[[actuators]]", "[gait]"):
         assert expected in text
-    # servo stiffness of a leg: 2 m g l
+    # servo stiffness of a leg: 3 m g l
     kp = next(s.kp for s in draft.servos if s.joint == "jpd")
-    assert kp == pytest.approx(2 * draft.mass * 9.81 * draft.leg_length, rel=1e-2)
+    assert kp == pytest.approx(3 * draft.mass * 9.81 * draft.leg_length, rel=1e-2)

@@ -1,6 +1,8 @@
-"""``mpcwalk robots``: the robots that load here; ``mpcwalk robots check NAME|PRESET``."""
+"""``mpcwalk robots``: the robots that load here; ``mpcwalk robots check NAME|PRESET``;
+``mpcwalk robots init DESCRIPTION --out PRESET.toml``."""
 
 import argparse
+from pathlib import Path
 
 from mpcwalk.exceptions import ConfigurationError
 
@@ -18,11 +20,31 @@ def add_parser(sub) -> argparse.ArgumentParser:
         "torso frame upright, the soles lie on the feet, the servos hold the posture, it "
         "stands one second under the servos, a short walk with mpc does not fall. Each "
         "failure prints its numbers and its likely fix. Exit code 1 when a check fails, 2 "
-        "when there is no robot to check (unknown name, no such preset file or description).",
+        "when there is no robot to check (unknown name, no such preset file or description). "
+        "'mpcwalk robots init DESCRIPTION.urdf --out PRESET.toml' drafts a preset from a URDF "
+        "alone (legs, feet and soles, base axes, joint roles, torso and IMU, a knees-bent "
+        "posture, servos and gait from documented rules, every guess commented), then checks "
+        "it.",
     )
-    p.add_argument("action", nargs="?", choices=["check"], help="check one robot")
-    p.add_argument("robot", nargs="?", help="robot name or path of a preset file (.toml)")
+    p.add_argument(
+        "action",
+        nargs="?",
+        choices=["check", "init"],
+        help="check one robot, or draft a preset from a description",
+    )
+    p.add_argument(
+        "robot",
+        nargs="?",
+        help="robot name or path of a preset file (.toml); for init, a URDF file",
+    )
     p.add_argument("--no-walk", action="store_true", help="skip the short walk")
+    p.add_argument("--out", help="init: the preset file to write (.toml)")
+    p.add_argument("--name", help="init: the robot's name (default: the URDF's)")
+    p.add_argument(
+        "--srdf", help="init: an SRDF whose reference posture sets the arms and the head"
+    )
+    p.add_argument("--overwrite", action="store_true", help="init: replace --out")
+    p.add_argument("--no-check", action="store_true", help="init: do not check the preset")
     p.set_defaults(run=run)
     return p
 
@@ -33,14 +55,20 @@ def check(args) -> int:
     Raises:
         RobotNotFound: No such robot, preset file or description (exit code 2 in ``main``).
     """
-    from mpcwalk.walking.robot_check import check_robot
-
     if not args.robot:
         raise ConfigurationError(
             "mpcwalk robots check needs a robot: a name (mpcwalk robots) or the path of a "
             "preset file, e.g. mpcwalk robots check my_robot/my_biped.toml."
         )
-    results = check_robot(args.robot, walk=not args.no_walk)
+    return print_checks(args.robot, walk=not args.no_walk)
+
+
+def print_checks(robot: str | Path, *, walk: bool) -> int:
+    """Run the checks of ``robot`` (a name or a preset file), one line each; 1 when one
+    fails."""
+    from mpcwalk.walking.robot_check import check_robot
+
+    results = check_robot(robot, walk=walk)
     for result in results:
         print(f"{'ok  ' if result.passed else 'FAIL'} {result.name}: {result.detail}")
     return 0 if all(r.passed for r in results) else 1
@@ -56,6 +84,10 @@ def run(args) -> int:
 
     if getattr(args, "action", None) == "check":
         return check(args)
+    if getattr(args, "action", None) == "init":
+        from mpcwalk.cli.robots_init import init
+
+        return init(args)
     names = robot_names()
     if not names:
         raise ConfigurationError(

@@ -120,10 +120,15 @@ def foot_footprints(
     *,
     layer: float = DEFAULT_LAYER,
     package_dirs: Sequence[str | Path] = (),
+    axes: np.ndarray | None = None,
 ) -> dict[str, dict[str, SoleFootprint]]:
     """The collision and visual footprints of each foot (:func:`sole_from_geometry`'s, the
     description compiled once): foot -> ``"collision"``/``"visual"`` -> footprint, a kind
-    missing where the foot has no such shape that MuJoCo reads.
+    missing where the foot has no such shape that MuJoCo or Pinocchio reads.
+
+    ``axes`` (3, 3), the sole's axes (columns: length, width, up) in the foot frame, measures
+    the footprint along them (a foot frame turned from its sole, a preset's ``sole_rpy``):
+    the offset stays in the foot frame, the size is along the sole's axes.
 
     Raises:
         FrameNotFound: A foot is neither a body nor a site of the description.
@@ -155,7 +160,7 @@ def foot_footprints(
             points = [p for p in (_geom_points(model, data, g) for g in chosen) if len(p)]
             if points:
                 local = (np.concatenate(points) - origin) @ rotation  # into the foot frame
-                result[foot][kind] = _footprint(local, layer, kind)
+                result[foot][kind] = _footprint(local, layer, kind, axes)
     path = Path(description)
     if path.suffix.lower() == ".urdf" and not all(len(found) == 2 for found in result.values()):
         for kind in ("collision", "visual"):
@@ -164,7 +169,7 @@ def foot_footprints(
                 continue
             for foot, local in urdf_foot_points(path, missing, kind, package_dirs).items():
                 if len(local) >= 3:
-                    result[foot][kind] = _footprint(local, layer, kind)
+                    result[foot][kind] = _footprint(local, layer, kind, axes)
     return result
 
 
@@ -229,13 +234,19 @@ def _collides(model: mujoco.MjModel, geom: int) -> bool:
     return bool(model.geom_contype[geom] or model.geom_conaffinity[geom])
 
 
-def _footprint(points: np.ndarray, layer: float, source: str) -> SoleFootprint:
-    """The bounding rectangle of ``points`` [m] within ``layer`` of the lowest."""
+def _footprint(
+    points: np.ndarray, layer: float, source: str, axes: np.ndarray | None = None
+) -> SoleFootprint:
+    """The bounding rectangle of ``points`` [m] (foot frame) within ``layer`` of the lowest,
+    along ``axes`` (columns in the foot frame; default: the foot frame's)."""
+    turn = np.eye(3) if axes is None else np.asarray(axes, dtype=float)
+    points = points @ turn
     lowest = float(points[:, 2].min())
     low = points[points[:, 2] <= lowest + layer]
     (x_min, y_min), (x_max, y_max) = low[:, :2].min(axis=0), low[:, :2].max(axis=0)
+    centre = turn @ np.array([0.5 * float(x_min + x_max), 0.5 * float(y_min + y_max), lowest])
     return SoleFootprint(
-        offset=(0.5 * float(x_min + x_max), 0.5 * float(y_min + y_max), lowest),
+        offset=(float(centre[0]), float(centre[1]), float(centre[2])),
         size=(float(x_max - x_min), float(y_max - y_min)),
         source=source,
     )

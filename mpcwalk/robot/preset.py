@@ -74,6 +74,9 @@ class RobotPreset:
         torso_frame: Frame to keep upright while walking.
         sole_offset: Sole centre in the foot link frame [m] (URDF only).
         sole_thickness: Height of the foot contact box the loader adds [m] (URDF only).
+        sole_rpy: Orientation of the sole in the foot link frame, roll, pitch, yaw [rad]
+            (URDF only): for a foot link whose axes are not x forward, z up when the sole
+            is flat (iCub's); the sole frame, site and contact box follow it.
         imu_frame: Link carrying the IMU site (URDF only; MJCF files have a site ``imu``).
         imu_offset: Position of the IMU site in that link [m].
         nominal_posture: Joint angles of the walking posture [rad]; others are 0.
@@ -99,6 +102,7 @@ class RobotPreset:
     torso_frame: str
     sole_offset: tuple[float, float, float] = (0.0, 0.0, 0.0)
     sole_thickness: float = 0.01
+    sole_rpy: tuple[float, float, float] = (0.0, 0.0, 0.0)
     imu_frame: str = ""
     imu_offset: tuple[float, float, float] = (0.0, 0.0, 0.0)
     nominal_posture: dict[str, float] = field(default_factory=dict)
@@ -147,6 +151,7 @@ class RobotPreset:
                 sole_size=_floats(feet["sole_size"], 2),
                 sole_offset=_floats(feet.get("sole_offset", (0.0, 0.0, 0.0)), 3),
                 sole_thickness=float(feet.get("sole_thickness", 0.01)),
+                sole_rpy=_floats(feet.get("sole_rpy", (0.0, 0.0, 0.0)), 3),
                 com_height=float(raw["com_height"]),
                 torso_frame=raw["torso_frame"],
                 imu_frame=imu.get("frame", ""),
@@ -195,7 +200,7 @@ _PRESET_KEYS = {
         "joints",
         "base",
     ),
-    "feet": ("left", "right", "sole_size", "sole_offset", "sole_thickness"),
+    "feet": ("left", "right", "sole_size", "sole_offset", "sole_thickness", "sole_rpy"),
     "imu": ("frame", "offset"),
     "joints": (*ROLE_KEYS, "arms"),
     "base": ("forward", "up"),

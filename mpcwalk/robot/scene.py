@@ -64,11 +64,17 @@ def urdf_spec(
 
 
 def _add_pinocchio_frame(
-    model: pin.Model, name: str, link: str, offset: Sequence[float] | np.ndarray
+    model: pin.Model,
+    name: str,
+    link: str,
+    offset: Sequence[float] | np.ndarray,
+    rotation: np.ndarray | None = None,
 ) -> None:
-    """Add an operational frame ``name`` at ``offset`` [m] in the frame of ``link``."""
+    """Add an operational frame ``name`` at ``offset`` [m] in the frame of ``link``, turned
+    by ``rotation`` (3, 3) in it (default: aligned)."""
     parent = model.getFrameId(link)
-    placement = model.frames[parent].placement * pin.SE3(np.eye(3), np.asarray(offset, float))
+    turn = np.eye(3) if rotation is None else rotation
+    placement = model.frames[parent].placement * pin.SE3(turn, np.asarray(offset, float))
     model.addFrame(
         pin.Frame(name, model.frames[parent].parentJoint, parent, placement, pin.FrameType.OP_FRAME)
     )
@@ -80,6 +86,9 @@ def add_urdf_robot_parts(spec: mujoco.MjSpec, model: pin.Model, preset: RobotPre
     length, width = preset.sole_size
     thickness = preset.sole_thickness
     offset = np.array(preset.sole_offset, dtype=float)
+    turn = pin.rpy.rpyToMatrix(np.array(preset.sole_rpy, dtype=float))
+    quat = pin.Quaternion(turn).coeffs()  # x, y, z, w
+    sole_quat = [float(quat[3]), float(quat[0]), float(quat[1]), float(quat[2])]
     for link, sole in zip(preset.foot_frames, SOLE_FRAMES):
         body = spec.body(link)
         if body is None or not model.existFrame(link):
@@ -87,6 +96,7 @@ def add_urdf_robot_parts(spec: mujoco.MjSpec, model: pin.Model, preset: RobotPre
         body.add_site(
             name=sole,
             pos=offset,
+            quat=sole_quat,
             type=mujoco.mjtGeom.mjGEOM_BOX,
             size=[length / 2 + 0.002, width / 2 + 0.002, 0.4 * thickness],
             rgba=[0.2, 0.8, 0.2, 0.3],
@@ -95,13 +105,14 @@ def add_urdf_robot_parts(spec: mujoco.MjSpec, model: pin.Model, preset: RobotPre
             name=f"{sole}_box",
             type=mujoco.mjtGeom.mjGEOM_BOX,
             size=[length / 2, width / 2, thickness / 2],
-            pos=offset + [0.0, 0.0, thickness / 2],
+            pos=offset + turn @ [0.0, 0.0, thickness / 2],
+            quat=sole_quat,
             contype=1,
             conaffinity=0,
             friction=[1.0, 0.005, 0.0001],
             rgba=[0.8, 0.3, 0.2, 1.0],
         )
-        _add_pinocchio_frame(model, sole, link, offset)
+        _add_pinocchio_frame(model, sole, link, offset, turn)
     imu_link = preset.imu_frame or spec.worldbody.first_body().name
     if spec.body(imu_link) is None or not model.existFrame(imu_link):
         raise FrameNotFound(imu_link, links, preset.name)

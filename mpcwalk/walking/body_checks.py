@@ -52,10 +52,20 @@ def check_inertias(robot: Robot) -> CheckResult:
     )
 
 
-def _overhang(footprint: SoleFootprint, centre: np.ndarray, size: tuple[float, float]) -> float:
-    """Largest distance [m] of a corner of the sole (``centre``, ``size``) outside
-    ``footprint``, both in the foot frame (0 inside)."""
-    x_min, x_max, y_min, y_max = footprint.bounds
+def _overhang(
+    footprint: SoleFootprint,
+    centre: np.ndarray,
+    size: tuple[float, float],
+    axes: np.ndarray | None = None,
+) -> float:
+    """Largest distance [m] of a corner of the sole (``centre`` in the foot frame, ``size``
+    along the sole's ``axes``) outside ``footprint`` (measured along the same axes), 0
+    inside."""
+    turn = np.eye(3) if axes is None else axes
+    centre = turn.T @ np.asarray(centre, dtype=float)
+    middle = turn.T @ np.asarray(footprint.offset, dtype=float)
+    x_min, x_max = middle[0] - footprint.size[0] / 2, middle[0] + footprint.size[0] / 2
+    y_min, y_max = middle[1] - footprint.size[1] / 2, middle[1] + footprint.size[1] / 2
     half = np.array(size) / 2
     return float(
         max(
@@ -74,8 +84,9 @@ def check_soles_on_feet(robot: Robot) -> CheckResult:
     name = "the soles lie on the feet"
     preset = robot.preset
     centre = np.array(preset.sole_offset if preset.format == "urdf" else (0.0, 0.0, 0.0))
+    axes = pin.rpy.rpyToMatrix(np.array(preset.sole_rpy, dtype=float))
     try:
-        footprints = foot_footprints(robot.description_path, preset.foot_frames)
+        footprints = foot_footprints(robot.description_path, preset.foot_frames, axes=axes)
     except MpcwalkError as error:
         return CheckResult(name, True, f"not measured: {error}")
     problems, measured = [], []
@@ -84,9 +95,9 @@ def check_soles_on_feet(robot: Robot) -> CheckResult:
             measured.append(f"{side} foot: no shape MuJoCo reads, not measured")
             continue
         best = min(
-            footprints[foot].values(), key=lambda fp: _overhang(fp, centre, preset.sole_size)
+            footprints[foot].values(), key=lambda fp: _overhang(fp, centre, preset.sole_size, axes)
         )
-        overhang = _overhang(best, centre, preset.sole_size)
+        overhang = _overhang(best, centre, preset.sole_size, axes)
         if overhang > SOLE_OVERHANG_TOLERANCE:
             (x, y, z), (length, width) = best.offset, best.size
             problems.append(

@@ -45,12 +45,14 @@ class Servo:
 
 @dataclass(frozen=True)
 class Sole:
-    """A sole in its foot link's frame: centre of its bottom face [m], length and width [m],
-    and where they came from."""
+    """A sole in its foot link's frame: centre of its bottom face [m], length and width [m]
+    along its axes, where they came from, and its orientation in the foot link's frame
+    (roll, pitch, yaw [rad]; zero where the link's axes are the sole's)."""
 
     offset: tuple[float, float, float]
     size: tuple[float, float]
     source: str
+    rpy: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -150,7 +152,7 @@ def draft_preset(
     if soles is None:
         from mpcwalk.robot.survey.feet import soles_from_geometry
 
-        soles = soles_from_geometry(description, legs)
+        soles = soles_from_geometry(description, model, legs)
     start, notes = None, []
     if srdf is not None:
         start, state = _reference_posture(model, Path(srdf))
@@ -183,10 +185,28 @@ def draft_preset(
         leg_length=leg_length,
         mass=mass,
         servos=servos,
-        gait=rules.gait_table(posture.com_height, leg_length, min(s.size[1] for s in soles)),
+        gait=rules.gait_table(
+            posture.com_height,
+            leg_length,
+            min(s.size[1] for s in soles),
+            _half_stance(model, posture.q, legs, soles),
+        ),
         repaired_links=tuple(repaired),
         notes=tuple(notes),
     )
+
+
+def _half_stance(
+    model: pin.Model, q: np.ndarray, legs: LegSurvey, soles: tuple[Sole, Sole]
+) -> float:
+    """Half the lateral distance [m] between the sole centres at ``q``."""
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    centres = [
+        data.oMf[model.getFrameId(leg.foot)].act(_sole_centre(sole))
+        for leg, sole in zip((legs.left, legs.right), soles)
+    ]
+    return 0.5 * abs(float(centres[0][1] - centres[1][1]))
 
 
 def _imu_link(model: pin.Model, legs: LegSurvey) -> tuple[str, str]:

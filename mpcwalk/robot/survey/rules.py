@@ -9,8 +9,8 @@ time constant [s], ``dt`` the physics time step [s].
 Servos (position actuators of MuJoCo):
 
 - legs: ``kp = LEG_STIFFNESS * m g l`` [N m/rad]: a leg joint deflects by 1/LEG_STIFFNESS
-  rad under the robot's whole weight at the leg's length (the shipped ``g1`` uses 1.3 to
-  1.8, ``talos`` 2.9);
+  rad under the robot's whole weight at the leg's length (the shipped presets, tuned by
+  hand, use 1.3 to 1.8 on ``g1``, 2.9 on ``talos``; at 2 ``talos`` stands tilted 6 deg);
 - the other joints: ``kp = OTHER_STIFFNESS * m_s g r_s`` from the mass ``m_s`` the joint
   carries and the distance ``r_s`` of its CoM, at least :data:`MIN_STIFFNESS_SHARE` of the
   legs';
@@ -25,7 +25,9 @@ Gait (the ``[gait]`` table):
   robot walks at 0.5 s; ``g1``: 0.6 s);
 - ``step_height = STEP_HEIGHT_SHARE * l``; reach per step forward / backward / outward
   ``0.30 / 0.15 / 0.12 l`` (``g1``: 0.20 / 0.10 / 0.08 m);
-- ``y_sep = (sole width + 0.1 l) / 2``: soles never closer than 10 % of the leg;
+- ``y_sep = (sole width + 0.1 l) / 2``: soles never closer than 10 % of the leg, and at
+  most 95 % of the walking posture's half stance (the planner's nominal stance must keep
+  it);
 - the MPC samples every 50 ms over three steps.
 """
 
@@ -34,7 +36,7 @@ from __future__ import annotations
 import math
 
 GRAVITY = 9.81  # [m/s^2]
-LEG_STIFFNESS = 2.0
+LEG_STIFFNESS = 3.0
 OTHER_STIFFNESS = 10.0
 MIN_STIFFNESS_SHARE = 0.005
 DAMPING_TIME = 0.03  # [s]
@@ -74,14 +76,17 @@ def step_duration(com_height: float) -> float:
     return max(MIN_STEP_DURATION, round(STEP_TIME_CONSTANTS * time_constant / 0.05) * 0.05)
 
 
-def gait_table(com_height: float, leg_length: float, sole_width: float) -> dict[str, float]:
-    """The ``[gait]`` table of a robot (values rounded for the preset)."""
+def gait_table(
+    com_height: float, leg_length: float, sole_width: float, half_stance: float
+) -> dict[str, float]:
+    """The ``[gait]`` table of a robot (values rounded for the preset); ``half_stance`` [m]
+    is half the lateral distance of the sole centres in the walking posture."""
     period = step_duration(com_height)
     return {
         "step_duration": round(period, 2),
         "double_support_ratio": 0.2,
         "step_height": round(STEP_HEIGHT_SHARE * leg_length, 3),
-        "y_sep": round(0.5 * (sole_width + 0.1 * leg_length), 3),
+        "y_sep": round(min(0.5 * (sole_width + 0.1 * leg_length), 0.95 * half_stance), 3),
         "max_step_forward": round(0.30 * leg_length, 3),
         "max_step_backward": round(0.15 * leg_length, 3),
         "max_step_lateral": round(0.12 * leg_length, 3),

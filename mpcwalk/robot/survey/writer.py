@@ -62,6 +62,10 @@ def preset_toml(draft: PresetDraft) -> str:
         _line(f"sole_offset = {_vector(left_sole.offset)}", f"[m] {left_sole.source}"),
         _line(f"sole_size = {_vector(left_sole.size)}", "[m] length, width"),
     ]
+    if any(left_sole.rpy):
+        out.append(
+            _line(f"sole_rpy = {_vector(left_sole.rpy)}", "[rad] the foot link is turned from its sole")
+        )
     if any(abs(a - b) > 0.005 for a, b in zip(left_sole.offset, right_sole.offset)):
         out.append(f"# the right sole's centre differs: {_vector(right_sole.offset)} [m]")
     out += [
@@ -100,7 +104,7 @@ def preset_toml(draft: PresetDraft) -> str:
         "step_duration": f"[s] {rules.STEP_TIME_CONSTANTS:g} T_c, at least 0.5 s",
         "double_support_ratio": "paper M",
         "step_height": f"[m] {rules.STEP_HEIGHT_SHARE:g} l",
-        "y_sep": "[m] (sole width + 0.1 l) / 2",
+        "y_sep": "[m] (sole width + 0.1 l) / 2, at most 0.95 of the half stance",
         "max_step_forward": "[m] 0.30 l",
         "max_step_backward": "[m] 0.15 l",
         "max_step_lateral": "[m] 0.12 l",
