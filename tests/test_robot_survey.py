@@ -121,7 +121,8 @@ def test_draft_lists_repairs_and_writes_every_guess(tmp_path):
     path.write_text(biped_urdf(base_yaw=math.pi, zero_inertia=3))
     draft = draft_preset(path, reference="quirky.urdf")
     assert draft.repaired_links == ("p0", "p1", "p4")
-    assert draft.legs.forward == "-x"
+    assert draft.base == ("-x", "z")
+    assert draft.legs.forward == "x"  # after the loader's re-expression of the root
     assert draft.torso[0] == "chest"
     text = draft.toml()
     for expected in ('forward = "-x"', 'left = "p5"', "jpd = 0.", "[[actuators]]", "[gait]"):

@@ -92,15 +92,17 @@ def biped_urdf(*, base_yaw: float = 0.0, zero_inertia: int = 0, arms: bool = Tru
     ]
     if arms:
         for sign, letter in ((1.0, "u"), (-1.0, "v")):
+            roll = (-0.2, 1.5) if sign > 0 else (-1.5, 0.2)
             parts += [
                 _link(f"{letter}0", 0.3, (0.05, 0.05, 0.05)),
-                _link(f"{letter}1", 1.0, (0.06, 0.06, 0.5), (0, 0, -0.25)),
+                _link(f"{letter}1", 0.6, (0.06, 0.06, 0.25), (0, 0, -0.125)),
+                _link(f"{letter}2", 0.4, (0.05, 0.05, 0.25), (0, 0, -0.125)),
+                _link(f"{letter}3", 0.1, (0.04, 0.04, 0.04)),
                 _joint(f"{letter}p", "chest", f"{letter}0", (0, sign * 0.2, 0.27), "0 1 0"),
-                _joint(f"{letter}r", f"{letter}0", f"{letter}1", (0, 0, 0), "1 0 0", -0.2, 1.5)
-                if sign > 0
-                else _joint(
-                    f"{letter}r", f"{letter}0", f"{letter}1", (0, 0, 0), "1 0 0", -1.5, 0.2
-                ),
+                _joint(f"{letter}r", f"{letter}0", f"{letter}1", (0, 0, 0), "1 0 0", *roll),
+                _joint(f"{letter}e", f"{letter}1", f"{letter}2", (0, 0, -0.25), "0 1 0", -2.0, 0.0),
+                f'<joint name="{letter}h" type="fixed"><parent link="{letter}2"/>'
+                f'<child link="{letter}3"/><origin xyz="0 0 -0.25" rpy="0 0 0"/></joint>',
             ]
     parts.append("</robot>")
     return "\n".join(parts)

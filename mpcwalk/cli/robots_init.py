@@ -55,7 +55,7 @@ def init(args) -> int:
     print(
         f"{draft.name}: legs {', '.join(draft.legs.left.joints)} | "
         f"{', '.join(draft.legs.right.joints)}; feet {draft.legs.left.foot}, "
-        f"{draft.legs.right.foot}; base forward {draft.legs.forward}, up {draft.legs.up}; "
+        f"{draft.legs.right.foot}; base forward {draft.base[0]}, up {draft.base[1]}; "
         f"sole {draft.soles[0].size[0]:.3f} x {draft.soles[0].size[1]:.3f} m; torso "
         f"{draft.torso[0]}; CoM height {draft.posture.com_height:.3f} m; step "
         f"{draft.gait['step_duration']:g} s"

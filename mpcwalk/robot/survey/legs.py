@@ -33,6 +33,9 @@ from mpcwalk.robot.base_orientation import AXIS_VECTORS
 #: ankle pitch: no humanoid leg walks with fewer).
 MIN_LEG_JOINTS = 4
 
+#: Largest height difference of the two feet, as a share of the leg length.
+LEG_MISMATCH = 0.25
+
 #: The six axes a description's root may point forward or up along, by name (a preset's
 #: ``[base]`` table names them the same way).
 AXES = {name: np.array(vector) for name, vector in AXIS_VECTORS.items()}
@@ -171,6 +174,14 @@ def find_legs(model: pin.Model, q: np.ndarray | None = None) -> LegSurvey:
     up = _snap(up_vector, "up")
     up_axis = AXES[up]
     leg_length = float(np.mean([(h - f) @ up_axis for h, f in zip(hips, feet)]))
+    mismatch = abs(float((feet[0] - feet[1]) @ up_axis))
+    if mismatch > LEG_MISMATCH * leg_length or len(legs[0].joints) != len(legs[1].joints):
+        raise ConfigurationError(
+            f"The two chains taken for legs ({', '.join(legs[0].joints)} and "
+            f"{', '.join(legs[1].joints)}) end {mismatch:.3f} m apart in height, or have "
+            "different numbers of joints: the description does not have two legs alike. A "
+            "biped needs two legs (hips, knee, ankle each)."
+        )
     votes = [_forward_from_knee(model, q, leg, up_axis) for leg in legs]
     named = {_snap(v, "forward") for v in votes if v is not None}
     if len(named) != 1:

@@ -64,7 +64,10 @@ def preset_toml(draft: PresetDraft) -> str:
     ]
     if any(left_sole.rpy):
         out.append(
-            _line(f"sole_rpy = {_vector(left_sole.rpy)}", "[rad] the foot link is turned from its sole")
+            _line(
+                f"sole_rpy = {_vector(left_sole.rpy)}",
+                "[rad] the foot link is turned from its sole",
+            )
         )
     if any(abs(a - b) > 0.005 for a, b in zip(left_sole.offset, right_sole.offset)):
         out.append(f"# the right sole's centre differs: {_vector(right_sole.offset)} [m]")
