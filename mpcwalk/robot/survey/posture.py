@@ -72,7 +72,8 @@ def solve_posture(
         sole_centres: Centre of each sole (left, right) in its foot link's frame [m].
         hip_height_ratio: Hip height as a share of the straight leg's.
         q_start: Configuration to start from (default: every joint at 0, the knees bent a
-            little towards their larger range).
+            little towards their larger range); a joint outside its limits starts at the
+            nearer one.
         iterations: Most Gauss-Newton iterations.
 
     Raises:
@@ -84,6 +85,11 @@ def solve_posture(
     leg_joints = [model.getJointId(n) for n in (*legs.left.joints, *legs.right.joints)]
     v_columns = np.array([0, 1, 2] + [model.idx_vs[j] for j in leg_joints])
     q = pin.neutral(model) if q_start is None else q_start.copy()
+    for joint_id in range(2, model.njoints):  # a joint whose 0 is out of range: its bound
+        i = model.idx_qs[joint_id]
+        low, high = model.lowerPositionLimit[i], model.upperPositionLimit[i]
+        if model.nqs[joint_id] == 1 and np.isfinite(low) and np.isfinite(high) and low <= high:
+            q[i] = min(max(q[i], low), high)
     if q_start is None:
         for leg in (legs.left, legs.right):
             knee = model.getJointId(leg.knee)
