@@ -10,10 +10,10 @@ import pytest
 from conftest import get_robot
 
 from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.robot.joint_role_detection import detect_joint_roles
 from mpcwalk.robot.joint_roles import (
     ROLE_KEYS,
     JointRoles,
-    detect_joint_roles,
     with_preset_table,
 )
 from mpcwalk.robot.loading import robot_names

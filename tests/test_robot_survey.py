@@ -13,6 +13,7 @@ from mpcwalk.robot.survey.draft import draft_preset
 from mpcwalk.robot.survey.feet import soles_from_geometry
 from mpcwalk.robot.survey.legs import AXES, find_legs
 from mpcwalk.robot.survey.posture import HIP_HEIGHT_RATIO, solve_posture
+from mpcwalk.robot.survey.writer import preset_toml
 from mpcwalk.robot.urdf_repair import repair_inertias
 
 ROOT = example_robot_data_dir()
@@ -124,7 +125,7 @@ def test_draft_lists_repairs_and_writes_every_guess(tmp_path):
     assert draft.base == ("-x", "z")
     assert draft.legs.forward == "x"  # after the loader's re-expression of the root
     assert draft.torso[0] == "chest"
-    text = draft.toml()
+    text = preset_toml(draft)
     for expected in ('forward = "-x"', 'left = "p5"', "jpd = 0.", "[[actuators]]", "[gait]"):
         assert expected in text
     # servo stiffness of a leg: 3 m g l

@@ -1,4 +1,4 @@
-"""Joint roles found from the kinematics (:func:`mpcwalk.robot.joint_roles.detect_joint_roles`).
+"""Joint roles found from the kinematics (:func:`detect_joint_roles`).
 
 Detection, at a configuration ``q`` with the robot upright (base x forward, z up, y to the
 left), every direction expressed in the base frame:
@@ -226,4 +226,19 @@ class Detection:
         }
 
 
-__all__ = ["ARM_REACH", "AXIS_THRESHOLD", "Detection"]
+def detect_joint_roles(model: pin.Model, q: np.ndarray, foot_frames: tuple[str, str]) -> JointRoles:
+    """The joint roles of ``model`` found from its kinematics at ``q`` (see
+    :mod:`mpcwalk.robot.joint_role_detection`), never from the joint names.
+
+    Args:
+        model: Pinocchio model (floating base or fixed).
+        q: Configuration with the robot upright, base x forward and z up [m, rad].
+        foot_frames: Left and right foot frames (each ends a leg).
+
+    Raises:
+        ConfigurationError: A foot frame that is not in the model.
+    """
+    return Detection(model, np.asarray(q, dtype=float), foot_frames).roles()
+
+
+__all__ = ["ARM_REACH", "AXIS_THRESHOLD", "Detection", "detect_joint_roles"]

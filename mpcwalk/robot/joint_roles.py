@@ -2,7 +2,7 @@
 
 The controllers that act on named joints (paper M's gyro stabilizer and arm swing, paper A's
 ankle strategy) read a robot's :class:`JointRoles` instead of guessing from joint names.
-:func:`detect_joint_roles` finds them from the kinematics alone, the same way on every robot;
+:func:`~mpcwalk.robot.joint_role_detection.detect_joint_roles` finds them from the kinematics alone, the same way on every robot;
 a preset's ``[joints]`` table names those it gets wrong or cannot find
 (:func:`with_preset_table`).
 
@@ -14,9 +14,6 @@ from __future__ import annotations
 import types
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-
-import numpy as np
-import pinocchio as pin
 
 from mpcwalk.exceptions import ConfigurationError
 
@@ -158,23 +155,6 @@ def with_preset_table(
     return JointRoles(names, tuple(notes))
 
 
-def detect_joint_roles(model: pin.Model, q: np.ndarray, foot_frames: tuple[str, str]) -> JointRoles:
-    """The joint roles of ``model`` found from its kinematics at ``q`` (see
-    :mod:`mpcwalk.robot.joint_role_detection`), never from the joint names.
-
-    Args:
-        model: Pinocchio model (floating base or fixed).
-        q: Configuration with the robot upright, base x forward and z up [m, rad].
-        foot_frames: Left and right foot frames (each ends a leg).
-
-    Raises:
-        ConfigurationError: A foot frame that is not in the model.
-    """
-    from mpcwalk.robot.joint_role_detection import Detection  # it needs the roles above
-
-    return Detection(model, np.asarray(q, dtype=float), foot_frames).roles()
-
-
 __all__ = [
     "ARM_ROLES",
     "LEG_ROLES",
@@ -182,6 +162,5 @@ __all__ = [
     "ROLE_KEYS",
     "SIDES",
     "JointRoles",
-    "detect_joint_roles",
     "with_preset_table",
 ]

@@ -35,7 +35,8 @@ import pinocchio as pin
 from mpcwalk._checks import frozen_array
 from mpcwalk.exceptions import ConfigurationError, FrameNotFound, RobotNotFound
 from mpcwalk.robot.base_orientation import reorient_urdf_root
-from mpcwalk.robot.joint_roles import detect_joint_roles, with_preset_table
+from mpcwalk.robot.joint_role_detection import detect_joint_roles
+from mpcwalk.robot.joint_roles import with_preset_table
 from mpcwalk.robot.package_data import ROBOT_DATA, package_data_dir
 from mpcwalk.robot.preset import RobotPreset
 from mpcwalk.robot.robot import Robot, ServoGains

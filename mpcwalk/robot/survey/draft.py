@@ -4,14 +4,14 @@
 forward (:mod:`~mpcwalk.robot.survey.legs`), the soles, the torso
 (:mod:`~mpcwalk.robot.survey.upper_body`), solves the walking posture
 (:mod:`~mpcwalk.robot.survey.posture`) and sizes the servos and the gait
-(:mod:`~mpcwalk.robot.survey.rules`). :meth:`PresetDraft.toml` writes it as a preset whose
-every guessed number carries, as a comment, where it came from.
+(:mod:`~mpcwalk.robot.survey.rules`) into a :class:`~mpcwalk.robot.survey.parts.PresetDraft`;
+:func:`~mpcwalk.robot.survey.writer.preset_toml` writes it as a preset whose every guessed
+number carries, as a comment, where it came from.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -19,87 +19,13 @@ import pinocchio as pin
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.base_orientation import reorient_urdf_root
-from mpcwalk.robot.joint_roles import JointRoles, detect_joint_roles
+from mpcwalk.robot.joint_role_detection import detect_joint_roles
 from mpcwalk.robot.survey import rules
 from mpcwalk.robot.survey.legs import AXES, LegSurvey, find_legs
+from mpcwalk.robot.survey.parts import PresetDraft, Servo, Sole
 from mpcwalk.robot.survey.posture import Posture, solve_posture
 from mpcwalk.robot.survey.upper_body import joint_loads, standing_torques, torso_frame
 from mpcwalk.robot.urdf_repair import repair_inertias
-
-#: Share of a joint's torque limit its servo may need to stand; beyond, the draft warns.
-TORQUE_SHARE = 0.8
-
-
-@dataclass(frozen=True)
-class Servo:
-    """The drafted servo of one joint, and the standing torque it must hold."""
-
-    joint: str
-    kp: float
-    kv: float
-    armature: float
-    standing_torque: float
-    torque_limit: float
-    rule: str
-
-
-@dataclass(frozen=True)
-class Sole:
-    """A sole in its foot link's frame: centre of its bottom face [m], length and width [m]
-    along its axes, where they came from, and its orientation in the foot link's frame
-    (roll, pitch, yaw [rad]; zero where the link's axes are the sole's)."""
-
-    offset: tuple[float, float, float]
-    size: tuple[float, float]
-    source: str
-    rpy: tuple[float, float, float] = (0.0, 0.0, 0.0)
-
-
-@dataclass(frozen=True)
-class PresetDraft:
-    """Everything :func:`draft_preset` found, and the preset it writes (:meth:`toml`).
-
-    ``base`` holds the description root's forward and up axes; ``legs`` and everything
-    after it are in the loader's frame (the root re-expressed x forward, z up)."""
-
-    name: str
-    description: str
-    base: tuple[str, str]
-    legs: LegSurvey
-    roles: JointRoles
-    soles: tuple[Sole, Sole]
-    torso: tuple[str, str]
-    imu: tuple[str, str]
-    posture: Posture
-    leg_length: float
-    mass: float
-    servos: tuple[Servo, ...]
-    gait: dict[str, float]
-    repaired_links: tuple[str, ...]
-    notes: tuple[str, ...] = field(default=())
-
-    @property
-    def warnings(self) -> tuple[str, ...]:
-        """What the user should look at before walking (joints outside limits, servos
-        that cannot hold the robot up)."""
-        found = [
-            f"joint {joint} of the walking posture at {angle:.3f} rad is outside its limits "
-            f"[{low:.3f}, {high:.3f}]"
-            for joint, angle, low, high in self.posture.outside_limits
-        ]
-        found += [
-            f"joint {s.joint} needs {abs(s.standing_torque):.1f} N m to stand, "
-            f"{abs(s.standing_torque) / s.torque_limit:.0%} of its limit {s.torque_limit:g} N m"
-            for s in self.servos
-            if s.torque_limit > 0 and abs(s.standing_torque) > TORQUE_SHARE * s.torque_limit
-        ]
-        return tuple(found)
-
-    def toml(self) -> str:
-        """The preset file's text, every guess commented."""
-        from mpcwalk.robot.survey.writer import preset_toml
-
-        return preset_toml(self)
 
 
 def _sole_centre(sole: Sole) -> np.ndarray:
@@ -289,4 +215,4 @@ def _round(value: float, digits: int = 3) -> float:
     return round(value, digits - 1 - int(math.floor(math.log10(abs(value)))))
 
 
-__all__ = ["PresetDraft", "Servo", "Sole", "draft_preset"]
+__all__ = ["draft_preset"]

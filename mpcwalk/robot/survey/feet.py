@@ -16,8 +16,8 @@ import pinocchio as pin
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.footprint import foot_footprints
-from mpcwalk.robot.survey.draft import Sole
 from mpcwalk.robot.survey.legs import LegSurvey
+from mpcwalk.robot.survey.parts import Sole
 
 #: Sole length and width of a foot without shapes, as shares of the leg length.
 DEFAULT_SOLE = (0.30, 0.13)

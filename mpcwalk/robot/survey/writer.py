@@ -8,7 +8,7 @@ from mpcwalk.robot.survey import rules
 from mpcwalk.robot.survey.posture import HIP_HEIGHT_RATIO
 
 if TYPE_CHECKING:
-    from mpcwalk.robot.survey.draft import PresetDraft
+    from mpcwalk.robot.survey.parts import PresetDraft
 
 #: Column of the comments.
 _COLUMN = 36
