@@ -130,9 +130,9 @@ class WholeBodyIK:
         self.pelvis_task, self._pelvis_offset = _pelvis_task(
             robot, self.torso_task, weights.torso_orientation, upright_pelvis
         )
-        self.tasks = (self.com_task, self.left_task, self.right_task, self.torso_task)
-        if self.pelvis_task is not None:
-            self.tasks += (self.pelvis_task,)
+        tasks: list[ComTask | FrameTask] = [self.com_task, self.left_task, self.right_task]
+        tasks += [self.torso_task] + ([self.pelvis_task] if self.pelvis_task else [])
+        self.tasks = tuple(tasks)
         self._rows = np.cumsum([0] + [task.dimension for task in self.tasks])
         self._task_weights = np.concatenate([task.weights for task in self.tasks])
         self._task_weight_column = self._task_weights[:, None]
