@@ -64,4 +64,3 @@ def test_paper_m_walks_atlas_like():
     m = result.metrics
     assert not m.fell, m.fall_reason
     assert m.steps_completed == m.steps_planned == 4
-
