@@ -413,6 +413,7 @@ def _parsed(spec: WalkSpec) -> WalkSpec:
             "bioloid-like",
             controller="paper-m",
             generator="mpc",
+            controller_options={},  # a command line carries no controller options
             feedback=True,
             stabilizers=("reaim", "ankle-imu"),
             swing_profile="ctraj",

@@ -12,12 +12,12 @@
    adds the offsets ``tau / kp`` that make compliant position servos carry the reference
    motion, with the contact wrench at the desired ZMP.
 
-The controller knows the robot through its estimated state, never a simulator's ground
-truth. Stabilizers (:mod:`mpcwalk.control.stabilizers`) correct the targets of step 3 and
-the servo targets of step 5 from a typed input. In closed loop the estimated CoM reaches the
-generator through an observer and the desired ZMP of step 5 is the generator's plus the DCM
-feedback (:mod:`mpcwalk.control.dcm_feedback`); the heading hold
-(:mod:`mpcwalk.control.heading_hold`) turns the footsteps to come by the measured heading error.
+The controller knows the robot through its estimated state, never a simulator's ground truth.
+Stabilizers (:mod:`mpcwalk.control.stabilizers`) correct the targets of step 3 and the servo
+targets of step 5 from a typed input. In closed loop the estimated CoM reaches the generator
+through an observer and the desired ZMP of step 5 is the generator's plus the DCM feedback
+(:mod:`mpcwalk.control.dcm_feedback`); the heading hold (:mod:`mpcwalk.control.heading_hold`)
+turns the footsteps to come by the measured heading error.
 """
 
 import time
@@ -55,7 +55,7 @@ class WalkingController:
         generator: Pattern generator whose LIPM has the robot's CoM height and whose control
             period is ``control_period``; :meth:`for_robot` builds one by name.
         schedule: Footsteps and contact phases of the walk.
-        ik: Whole-body IK of ``robot`` (default: ``WholeBodyIK(robot)``).
+        ik: Whole-body IK of ``robot`` (default: ``WholeBodyIK(robot, upright_pelvis=...)``).
         swing_profile: ``"cosine"`` (paper M) or ``"ctraj"`` (paper A), see
             :class:`~mpcwalk.gait.swing_foot.SwingFootTrajectory`.
         step_height: Swing-foot height [m]; None: the robot's ``gait.step_height`` (its
@@ -84,6 +84,8 @@ class WalkingController:
         heading_hold: Hold the plan's heading (:mod:`mpcwalk.control.heading_hold`); None: on
             with ``feedback`` when the generator follows new footsteps and no stabilizer re-aims.
         terrain: The ground the robot's map holds: the swing feet clear it (None: the floor).
+        upright_pelvis: The default IK keeps the pelvis upright with the torso frame (paper
+            M's rigid trunk on a robot with a waist; :class:`WholeBodyIK`).
 
     When the generator's output carries a new schedule (footsteps moved), the controller
     follows it from that tick on.
@@ -113,6 +115,7 @@ class WalkingController:
         balance: BalanceOptions | bool | None = None,
         heading_hold: bool | None = None,
         terrain: Terrain | None = None,
+        upright_pelvis: bool = False,
     ) -> None:
         if not (np.isfinite(control_period) and control_period > 0.0):
             raise ConfigurationError(
@@ -136,7 +139,7 @@ class WalkingController:
         self.reference = GaitReference(
             schedule, height, swing_profile, robot.com_height, terrain=terrain
         )
-        self.ik = ik if ik is not None else WholeBodyIK(robot)
+        self.ik = ik if ik is not None else WholeBodyIK(robot, upright_pelvis=upright_pelvis)
         self.feedback = bool(feedback)
         self.dcm_feedback = DcmFeedback(
             schedule,
@@ -178,9 +181,8 @@ class WalkingController:
         from mpcwalk.generators import generator_class
 
         pattern_class: type[PatternGenerator] = generator_class(generator)
-        pattern = pattern_class.for_robot(
-            robot, control_period=control_period, **(generator_options or {})
-        )
+        options_ = generator_options or {}
+        pattern = pattern_class.for_robot(robot, control_period=control_period, **options_)
         return cls(robot, pattern, schedule, control_period=control_period, **options)
 
     @property
@@ -283,10 +285,9 @@ class WalkingController:
         """
         q = self.robot.q0 if q is None else np.asarray(q, dtype=float)
         if q.shape != (self.robot.model.nq,) or not np.all(np.isfinite(q)):
-            raise ConfigurationError(
-                f"reset expects a finite configuration of size nq = {self.robot.model.nq}, got "
-                f"shape {q.shape}."
-            )
+            nq = self.robot.model.nq
+            msg = f"reset expects a finite configuration of size nq = {nq}, got shape {q.shape}."
+            raise ConfigurationError(msg)
         self.q_ref = q.copy()
         self.faults = FaultMonitor(self.faults.max_fault_ticks)
         self.heading_hold = self.heading_hold and HeadingHold(self.heading_hold.plan)
@@ -372,9 +373,8 @@ class WalkingController:
             shift = balance.zmp_shift(dcm_error, self.control_period)
         zmp_command = self.dcm_feedback.desired_zmp(output.time, output.zmp, dcm_error, shift)
         zmp_shift = zmp_command - output.zmp
-        joint_targets = self._joint_targets(
-            q_next, ik.v, previous.ik.v, zmp_command, zmp_shift, feet
-        )
+        v_previous = previous.ik.v
+        joint_targets = self._joint_targets(q_next, ik.v, v_previous, zmp_command, zmp_shift, feet)
         inputs = self._stabilizer_input(output.time, gait, estimate, dcm_error)
         for stabilizer in self._stabilizers:
             joint_targets = stabilizer.adjust_joint_targets(inputs, joint_targets)

@@ -53,6 +53,10 @@ class WholeBodyIK:
             exactly so without feed-forward and posture terms).
         torso_frame: Frame kept at the torso orientation (default: the robot's).
         posture_reference: Posture reference, shape (nq,) (default: ``robot.q0``).
+        upright_pelvis: Also keep the floating base (the pelvis) at its nominal orientation
+            relative to the torso frame, where joints (a waist) lie between them: the trunk
+            moves as one rigid body, as on paper M's robot. Without a waist the torso task
+            already does, and no task is added.
 
     Raises:
         FrameNotFound: ``torso_frame`` or a sole frame does not exist.
@@ -74,6 +78,7 @@ class WholeBodyIK:
         lm_damping: float = 1.0,
         torso_frame: str | None = None,
         posture_reference: np.ndarray | None = None,
+        upright_pelvis: bool = False,
     ) -> None:
         if solver == "daqp":  # called directly: importing qpsolvers (and its back-ends) is slow
             try:
@@ -122,7 +127,12 @@ class WholeBodyIK:
         )
         reference = robot.q0 if posture_reference is None else posture_reference
         self.posture_task = PostureTask(model, weights.posture, reference)
-        self.tasks = (self.com_task, self.left_task, self.right_task, self.torso_task)
+        self.pelvis_task, self._pelvis_offset = _pelvis_task(
+            robot, self.torso_task, weights.torso_orientation, upright_pelvis
+        )
+        tasks: list[ComTask | FrameTask] = [self.com_task, self.left_task, self.right_task]
+        tasks += [self.torso_task] + ([self.pelvis_task] if self.pelvis_task else [])
+        self.tasks = tuple(tasks)
         self._rows = np.cumsum([0] + [task.dimension for task in self.tasks])
         self._task_weights = np.concatenate([task.weights for task in self.tasks])
         self._task_weight_column = self._task_weights[:, None]
@@ -165,20 +175,23 @@ class WholeBodyIK:
         self.left_task.set_checked_target(targets.left_sole, targets.left_sole_velocity)
         self.right_task.set_checked_target(targets.right_sole, targets.right_sole_velocity)
         angular = targets.torso_angular_velocity
-        self.torso_task.set_checked_target(
-            pin.SE3(targets.torso_rotation, np.zeros(3)),
-            None if angular is None else np.concatenate([np.zeros(3), angular]),
-        )
+        velocity = None if angular is None else np.concatenate([np.zeros(3), angular])
+        self.torso_task.set_checked_target(pin.SE3(targets.torso_rotation, np.zeros(3)), velocity)
+        if self.pelvis_task is not None:
+            rotation = targets.torso_rotation @ self._pelvis_offset
+            self.pelvis_task.set_checked_target(pin.SE3(rotation, np.zeros(3)), velocity)
 
     def _errors(self, posture_error: np.ndarray) -> TaskErrors:
-        norms = np.sqrt(np.add.reduceat(self._e * self._e, self._error_starts[:-1]))
+        e = self._e[: self._error_starts[-1]]  # the pelvis task's error is not reported
+        norms = np.sqrt(np.add.reduceat(e * e, self._error_starts[:-1]))
         com, left_p, left_o, right_p, right_o, torso = norms.tolist()
         posture = math.sqrt(float(posture_error.dot(posture_error)))  # np.linalg.norm
         return TaskErrors(com, left_p, left_o, right_p, right_o, torso, posture)
 
     def _main_error(self) -> float:
         """Largest CoM/sole/torso error norm in ``self._e``, in [m] or [rad]."""
-        return float(np.sqrt(np.add.reduceat(self._e * self._e, self._error_starts[:-1]).max()))
+        e = self._e[: self._error_starts[-1]]
+        return float(np.sqrt(np.add.reduceat(e * e, self._error_starts[:-1]).max()))
 
     def _build(self, q, dt, feedforward, limit_gain, velocity_bounds):
         """Fill the QP of one step at q: (H, c, lower, upper) on the actuated joints."""
@@ -346,3 +359,21 @@ class WholeBodyIK:
         for task, block in zip(self.tasks, self._blocks):
             self._e[block] = task.compute_error(self.model, self.data, q)
         return self._errors(self.posture_task.compute_error(self.model, self.data, q))
+
+
+def _pelvis_task(
+    robot, torso_task: FrameTask, weight: float, upright: bool
+) -> tuple[FrameTask | None, np.ndarray]:
+    """The orientation task of the floating base's body (None without ``upright`` or when
+    the torso frame is fixed to that body) and the base's rotation relative to the torso
+    frame in the nominal posture ``robot.q0``, shape (3, 3)."""
+    model = robot.model
+    torso_joint = model.frames[torso_task.frame_id].parentJoint
+    if not upright or torso_joint <= 1:
+        return None, np.eye(3)
+    base = next(f.name for f in model.frames if f.parentJoint == 1 and f.type == pin.FrameType.BODY)
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, robot.q0)
+    offset = data.oMf[torso_task.frame_id].rotation.T @ data.oMf[model.getFrameId(base)].rotation
+    task = FrameTask(model, base, position_weight=None, orientation_weight=weight, name="pelvis")
+    return task, offset

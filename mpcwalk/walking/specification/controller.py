@@ -11,7 +11,8 @@ them.
 
 - ``paper-m``: paper M's whole engine: the closed form, open loop, with the gyro
   stabilizer (eq. 26-30, the paper's gains) and the arm swing (s = 0.8), at the robot's
-  timing (bioloid-like: paper M's Table 1).
+  timing (bioloid-like: paper M's Table 1); its IK keeps the trunk rigid and upright (the
+  pelvis with the torso frame on a robot with a waist: paper M's robot has none).
 - ``paper-m-open``: the closed form alone, open loop, no stabilizer, arms still (paper M's
   turning walk of Fig. 1: "stabilization deactivated").
 - ``paper-a``: paper A's static gait: CoM above the support foot, quintic shifts in double
@@ -194,12 +195,14 @@ CONTROLLERS: Registry[ControllerSpec] = Registry(
             feedback=False,
             stabilizers=("gyro",),
             arm_swing=0.8,
+            controller_options={"upright_pelvis": True},
         ),
         _named(
             "paper-m-open",
             "paper M's closed form alone, open loop, no stabilizer (paper M Fig. 1)",
             generator="analytic",
             feedback=False,
+            controller_options={"upright_pelvis": True},
         ),
         _named(
             "paper-a",
