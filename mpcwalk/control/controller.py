@@ -12,12 +12,12 @@
    adds the offsets ``tau / kp`` that make compliant position servos carry the reference
    motion, with the contact wrench at the desired ZMP.
 
-The controller knows the robot through its estimated state, never a simulator's ground
-truth. Stabilizers (:mod:`mpcwalk.control.stabilizers`) correct the targets of step 3 and
-the servo targets of step 5 from a typed input. In closed loop the estimated CoM reaches the
-generator through an observer and the desired ZMP of step 5 is the generator's plus the DCM
-feedback (:mod:`mpcwalk.control.dcm_feedback`); the heading hold
-(:mod:`mpcwalk.control.heading_hold`) turns the footsteps to come by the measured heading error.
+The controller knows the robot through its estimated state, never a simulator's ground truth.
+Stabilizers (:mod:`mpcwalk.control.stabilizers`) correct the targets of step 3 and the servo
+targets of step 5 from a typed input. In closed loop the estimated CoM reaches the generator
+through an observer, the desired ZMP of step 5 is the generator's plus the DCM feedback
+(:mod:`mpcwalk.control.dcm_feedback`); the heading hold (:mod:`mpcwalk.control.heading_hold`)
+turns the footsteps to come by the measured heading error.
 """
 
 import time
@@ -260,16 +260,16 @@ class WalkingController:
         return q[7:] + self.feedforward.compute_offsets(q, weights, v, acceleration)
 
     def follow_schedule(self, schedule: ContactSchedule) -> None:
-        """Follow ``schedule`` from now on (a footstep-adaptive generator moved footsteps):
-        the swing foot lands on its footsteps, from where it is now (no jump), and the DCM
-        feedback uses its polygons."""
+        """Follow ``schedule`` from now on (moved footsteps): the swing foot lands on them from
+        where it is (no jump), and the DCM feedback uses its polygons."""
         if schedule is not self.schedule:
             last, swing, now = self.last_output, None, None
             if last is not None and last.feet.swing_side is not None:
                 swing = (last.time, last.feet.swing_side)
                 if self.time - last.time > 1.5 * self.control_period:  # the clock jumped
                     now = self.time
-            self.reference.follow(schedule, swing, now)
+            late = getattr(self.generator, "late_adjustment", False)  # quintic re-plan
+            self.reference.follow(schedule, swing, now, smooth=late)
             self.dcm_feedback.set_schedule(schedule)
 
     # ------------------------------------------------------------------ protocol

@@ -17,9 +17,9 @@ them.
 - ``paper-a``: paper A's static gait: CoM above the support foot, quintic shifts in double
   support, the footstep re-aiming of its state machine, the ankle strategy with the IMU
   correction, quintic Cartesian swing (ctraj), at paper A's 12 s per step.
-- ``preview``, ``mpc``, ``mpc-steps``, ``mpc-timing``, ``static-qp``: the QP controllers,
-  closed loop on the estimated state with the balance stabilizer and the heading hold
-  (``static-qp`` at paper A's timing, re-aiming like paper A's gait).
+- ``preview``, ``mpc``, ``mpc-steps``, ``mpc-timing``, ``mpc-late``, ``static-qp``: the QP
+  controllers, closed loop on the estimated state with the balance stabilizer and the heading
+  hold (``static-qp`` at paper A's timing, re-aiming like paper A's gait).
 """
 
 import dataclasses
@@ -231,6 +231,14 @@ CONTROLLERS: Registry[ControllerSpec] = Registry(
             "error points to the lifting foot) and the capturability constraint",
             generator="mpc-steps",
             generator_options={"timing_adaptation": True, "capturability": True},
+        ),
+        _named(
+            "mpc-late",
+            "mpc-steps with late step adjustment: landings free until two ticks before "
+            "touch-down, each change boxed by the swing's time left, the swing re-planned as "
+            "a quintic",
+            generator="mpc-steps",
+            generator_options={"late_adjustment": True},
         ),
         _named(
             "static-qp",
