@@ -75,9 +75,7 @@ def test_a_retargeted_swing_is_c1_and_within_the_limits():
     landing_time = schedule.walk_start + k * schedule.step_duration + schedule.t_e
     t0 = landing_time - 0.1
     side = schedule.plan.steps[k].side
-    limits = SwingLimits.for_gait(
-        single_support=schedule.t_e - schedule.t_b, longest_swing=0.16
-    )
+    limits = SwingLimits.for_gait(single_support=schedule.t_e - schedule.t_b, longest_swing=0.16)
     delta = limits.landing_change_bound(0.1)
     steps = list(schedule.plan.steps)
     steps[k] = steps[k].moved(position=steps[k].position + np.array([delta, 0.0, 0.0]))
@@ -126,6 +124,7 @@ def _swing_landing_moves(late: bool):
 
 def test_late_landings_move_within_the_box_and_frozen_ones_do_not():
     frozen, start, published, landing_time = _swing_landing_moves(late=False)
+    assert frozen.freeze_before_landing == 0.1
     late_moves = [p for t, p in published if t > landing_time - 0.1]
     assert all(np.allclose(p, start, atol=2e-3) for p in late_moves)  # nothing late moves
     late, start, published, landing_time = _swing_landing_moves(late=True)

@@ -27,14 +27,17 @@ push (eigen-clip or regularised Hessian), so it is not offered.
 """
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError
 
 _COST_SCALE = 1e4  # [1/m^2 -> 1/cm^2]
-_IPOPT = {"print_level": 0, "sb": "yes", "tol": 1e-8, "mu_strategy": "adaptive"}
-_WARM = {  # start at the given point and multipliers, barely pushed inside the bounds
+_IPOPT: dict[str, Any] = {"print_level": 0, "sb": "yes", "tol": 1e-8, "mu_strategy": "adaptive"}
+_WARM: dict[
+    str, Any
+] = {  # start at the given point and multipliers, barely pushed inside the bounds
     "warm_start_init_point": "yes",
     "mu_init": 1e-3,
     "warm_start_bound_push": 1e-9,
@@ -168,8 +171,9 @@ class TimingNLP:
 
         g = ca.vertcat(local(yaw0, u1 - u0), local(yaw1, u2 - u1), local(yaw0, p - u0))
         nlp = {"x": x, "p": P, "f": cost, "g": g}
-        self._cold = ca.nlpsol("step_timing", "ipopt", nlp, {"print_time": False, "ipopt": _IPOPT})
-        warm_options = {"print_time": False, "ipopt": {**_IPOPT, **_WARM}}
+        cold_options: dict[str, Any] = {"print_time": False, "ipopt": _IPOPT}
+        warm_options: dict[str, Any] = {"print_time": False, "ipopt": {**_IPOPT, **_WARM}}
+        self._cold = ca.nlpsol("step_timing", "ipopt", nlp, cold_options)
         self._warm_solver = ca.nlpsol("step_timing_warm", "ipopt", nlp, warm_options)
         self._dcm = ca.Function("dcm", [x, P], [ca.horzcat(xi1, xi2).T])
         self._warm: dict | None = None
