@@ -79,6 +79,10 @@ def _cases(solvers: Sequence[str] | None, include_peer: bool):
     if "quadprog" in available_solvers:  # the same with step timing and capturability
         timing = {"solver": "quadprog", "timing_adaptation": True, "capturability": True}
         cases.append(("mpc-timing quadprog", "mpc-steps", "quadprog", timing))
+        late = {"solver": "quadprog", "late_adjustment": True}
+        cases.append(("mpc-late quadprog", "mpc-steps", "quadprog", late))
+        nlp = {"solver": "quadprog", "capturability": True}  # + the CasADi program (IPOPT)
+        cases.append(("mpc-timing-nlp quadprog+ipopt", "mpc-nlp", "quadprog", nlp))
     cases.append(
         (
             "static-qp osqp-direct (slow timing)",

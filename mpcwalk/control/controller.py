@@ -262,16 +262,16 @@ class WalkingController:
         return q[7:] + self.feedforward.compute_offsets(q, weights, v, acceleration)
 
     def follow_schedule(self, schedule: ContactSchedule) -> None:
-        """Follow ``schedule`` from now on (a footstep-adaptive generator moved footsteps):
-        the swing foot lands on its footsteps, from where it is now (no jump), and the DCM
-        feedback uses its polygons."""
+        """Follow ``schedule`` from now on (moved footsteps): the swing foot lands on them from
+        where it is (no jump), and the DCM feedback uses its polygons."""
         if schedule is not self.schedule:
             last, swing, now = self.last_output, None, None
             if last is not None and last.feet.swing_side is not None:
                 swing = (last.time, last.feet.swing_side)
                 if self.time - last.time > 1.5 * self.control_period:  # the clock jumped
                     now = self.time
-            self.reference.follow(schedule, swing, now)
+            late = getattr(self.generator, "late_adjustment", False)  # quintic re-plan
+            self.reference.follow(schedule, swing, now, smooth=late)
             self.dcm_feedback.set_schedule(schedule)
 
     # ------------------------------------------------------------------ protocol

@@ -19,6 +19,8 @@ from mpcwalk.gait.swing_foot import FeetState, FootState, SwingFootTrajectory
 from mpcwalk.ik.targets import IKTargets
 from mpcwalk.terrain import Terrain
 
+_DIFFERENCE_STEP = 1e-5  # [s] of the swing foot's acceleration by finite differences
+
 
 @dataclass(frozen=True)
 class GaitTargets:
@@ -107,11 +109,15 @@ class GaitReference:
         schedule: ContactSchedule,
         swing: tuple[float, Side] | None,
         now: float | None = None,
+        *,
+        smooth: bool = False,
     ) -> None:
         """Follow ``schedule`` from now on; the foot of ``swing`` = (time [s], side), in the
         air at that time, goes on from its pose there (no jump) to its new landing, from
         ``now`` [s] on the schedule's clock (default: that time; later when the clock jumped
-        ahead, a landing brought forward)."""
+        ahead, a landing brought forward). ``smooth``: re-plan the rest of the swing as a
+        quintic from the foot's position, velocity and acceleration there (late step
+        adjustment: no jump in velocity either), else rescale the rest of its interpolant."""
         previous = self.trajectory
         self.schedule = schedule
         self.trajectory = SwingFootTrajectory(
@@ -119,7 +125,14 @@ class GaitReference:
         )
         if swing is not None:
             t, side = swing
-            self.trajectory.restart_swing(t if now is None else now, previous.foot_poses(t)[side])
+            foot = previous.foot_poses(t)[side]
+            acceleration = None
+            if smooth:  # backward difference of the velocity: the interpolants are C2 inside
+                before = previous.foot_poses(t - _DIFFERENCE_STEP)[side]
+                acceleration = (
+                    np.asarray(foot.linear_velocity) - np.asarray(before.linear_velocity)
+                ) / _DIFFERENCE_STEP
+            self.trajectory.restart_swing(t if now is None else now, foot, acceleration)
 
     def targets(self, t: float, com_xy: np.ndarray) -> GaitTargets:
         """Feet and torso-yaw targets at ``t`` [s], with the CoM ``com_xy`` [m]."""

@@ -18,6 +18,7 @@ derivatives of these expressions.
 """
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -28,6 +29,7 @@ from mpcwalk.gait.contact_schedule import ContactSchedule, Phase
 from mpcwalk.gait.foot_state import FeetState, FootState
 from mpcwalk.gait.interpolation import step_interpolation_scalar, swing_height_scalar
 from mpcwalk.gait.swing_clearance import SwingClearance, with_height
+from mpcwalk.gait.swing_retarget import QuinticRetarget
 from mpcwalk.terrain import Terrain
 
 __all__ = ["SWING_PROFILES", "FeetState", "FootState", "SwingFootTrajectory"]
@@ -43,6 +45,14 @@ def _static_state(foot: Footstep) -> FootState:
         foot.roll,
         foot.pitch,
     )
+
+
+def _retargeted(state: FootState, retarget: QuinticRetarget, t: float) -> FootState:
+    """``state`` with its horizontal position and velocity on ``retarget`` at ``t`` [s]."""
+    xy, vxy, _ = retarget.evaluate(t)
+    position, velocity = np.array(state.position), np.array(state.linear_velocity)
+    position[:2], velocity[:2] = xy, vxy
+    return replace(state, position=frozen_array(position), linear_velocity=frozen_array(velocity))
 
 
 #: Swing-foot profiles: paper M's cosines, paper A's Cartesian quintic lift and lower.
@@ -113,9 +123,12 @@ class SwingFootTrajectory:
         # step index -> (h, horizontal position (2,), yaw, height offset, roll, pitch) the
         # swing restarts from
         self._restarts: dict[int, tuple[float, np.ndarray, float, float, float, float]] = {}
+        self._retargets: dict[int, QuinticRetarget] = {}  # step -> its horizontal quintic
         self._static_states: dict[int, tuple[Footstep, FootState]] = {}
 
-    def restart_swing(self, t: float, foot: FootState) -> None:
+    def restart_swing(
+        self, t: float, foot: FootState, acceleration: np.ndarray | None = None
+    ) -> None:
         """Continue the swing in progress at ``t`` from ``foot`` (its pose then) towards
         this schedule's landing: the landing moved during the swing (footstep-adaptive
         generator), and the horizontal position and the angles must not jump. From ``t`` on,
@@ -124,7 +137,13 @@ class SwingFootTrajectory:
         ``(h - h(t)) / (1 - h(t))``; the height follows the profile, offset by the foot's
         height above it at ``t`` fading out by touch-down (none when only the landing
         moved; the schedule's clock jumping ahead, a landing brought forward, needs it). No
-        effect outside a single support."""
+        effect outside a single support.
+
+        With the foot's horizontal ``acceleration`` [m/s^2] (shape (2,) or (3,)) given, the
+        horizontal position is instead re-planned as a quintic of time from the foot's
+        position, velocity and acceleration at ``t`` to the landing at rest
+        (:class:`~mpcwalk.gait.swing_retarget.QuinticRetarget`, late step adjustment):
+        position, velocity and acceleration do not jump, whatever the interpolant."""
         t = self._check_time(t)
         k, h, _ = self._interpolants(t)
         if (
@@ -137,6 +156,17 @@ class SwingFootTrajectory:
         lift = self.schedule.stance(t)[landing.side]
         profile = self._swing_state(t, lift, landing, h, 0.0).position[2]
         height = float(foot.position[2]) - float(profile)
+        self._retargets.pop(k, None)
+        remaining = self.schedule.walk_start + k * self.step_duration + self.schedule.t_e - t
+        if acceleration is not None and remaining > 1e-6:
+            self._retargets[k] = QuinticRetarget(
+                t,
+                remaining,
+                np.asarray(foot.position[:2], dtype=float),
+                np.asarray(foot.linear_velocity[:2], dtype=float),
+                np.asarray(acceleration, dtype=float)[:2],
+                np.asarray(landing.position[:2], dtype=float),
+            )
         self._restarts[k] = (
             h,
             np.array(foot.position[:2], dtype=float),
@@ -229,6 +259,8 @@ class SwingFootTrajectory:
                     states[swing] = self._restarted(
                         states[swing], landing, h, dh, *self._restarts[k]
                     )
+                if k in self._retargets:
+                    states[swing] = _retargeted(states[swing], self._retargets[k], t)
         return FeetState(t, k, states[Side.LEFT], states[Side.RIGHT])
 
     def _swing_state(

@@ -14,9 +14,9 @@ are the receding-horizon core of :mod:`mpcwalk.generators.receding_horizon`.
 
 Footsteps given to the controller (:attr:`GeneratorOutput.schedule`): landed feet and the
 support foot never move; the swing foot's landing is frozen ``freeze_before_landing``
-before touch-down; a schedule is published when the next landing moved by more than
-``publish_tolerance`` (with all the footsteps of that solve), so fixed feet always sit on
-published positions and the generator and the controller agree on every support polygon.
+before touch-down (``late_adjustment``: 2 ticks, changes boxed by the swing's time left); a
+new schedule when the next landing moved by more than ``publish_tolerance`` (all footsteps of
+that solve), so fixed feet sit on published positions and every support polygon agrees.
 """
 
 from dataclasses import replace
@@ -30,6 +30,7 @@ from mpcwalk.footsteps.reachability import ReachabilityRectangle
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.gait_defaults import GaitDefaults
 from mpcwalk.gait.height_profile import height_profile
+from mpcwalk.gait.swing_retarget import SwingLimits
 from mpcwalk.generators.pattern_generator import GeneratorOutput
 from mpcwalk.generators.receding_horizon import RecedingHorizonGenerator
 from mpcwalk.models.com_state import ComState
@@ -69,7 +70,10 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
             (Herdt-like: the walk goes on from where it stepped, but the velocity cost
             shortens every step a little, 1.2 mm per step at 0.1 m/s, and that adds up).
         freeze_before_landing: The swing foot's landing stops moving this long before
-            touch-down, in [s].
+            touch-down, in [s] (default 0.1 s; two control periods with ``late_adjustment``).
+        late_adjustment: Landing changes boxed by the swing's time left, the swing re-planned
+            as a quintic (:mod:`~mpcwalk.gait.swing_retarget`); ``swing_limits``: their
+            (velocity [m/s], acceleration [m/s^2]), default ``SwingLimits.for_walk``.
         publish_tolerance: Smallest move of the next landing that publishes a new
             schedule, in [m].
         max_fallback_ticks: Consecutive failed solves tolerated (the previous plan is
@@ -138,7 +142,9 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         solver: str = "quadprog",
         solver_settings: dict | None = None,
         footstep_reference: str = "absolute",
-        freeze_before_landing: float = 0.1,
+        freeze_before_landing: float | None = None,
+        late_adjustment: bool = False,
+        swing_limits: tuple[float, float] | None = None,
         publish_tolerance: float = 1e-3,
         max_fallback_ticks: int = 10,
         dcm_step_gain: float = 1.0,
@@ -150,30 +156,30 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         planned_strides: bool = False,
         **overrides,
     ) -> None:
-        if not isinstance(timing_adaptation, bool):
-            raise ConfigurationError(
-                f"timing_adaptation must be True or False, got {timing_adaptation!r}."
-            )
+        flags = {"timing_adaptation": timing_adaptation, "late_adjustment": late_adjustment}
+        for label, flag in flags.items():
+            if not isinstance(flag, bool):
+                raise ConfigurationError(f"{label} must be True or False, got {flag!r}.")
         if not (np.isfinite(min_swing) and min_swing > 0.0):
             raise ConfigurationError(
                 f"min_swing must be a positive duration [s], got {min_swing!r}."
             )
         self.timing_adaptation, self.min_swing = timing_adaptation, float(min_swing)
-        for label, value in (("max_hold", max_hold), ("hold_dcm_error", hold_dcm_error)):
+        for label, value in (
+            ("max_hold", max_hold),
+            ("hold_dcm_error", hold_dcm_error),
+            ("dcm_deadband", dcm_deadband),
+        ):
             if not (np.isfinite(value) and value >= 0.0):
                 raise ConfigurationError(f"{label} must be a non-negative number, got {value!r}.")
         self.max_hold, self.hold_dcm_error = float(max_hold), float(hold_dcm_error)
+        self.dcm_deadband = float(dcm_deadband)
         if not (np.isfinite(dcm_step_gain) and dcm_step_gain >= 0.0):
             raise ConfigurationError(
                 f"dcm_step_gain must be a non-negative number, got {dcm_step_gain!r}; 1 "
                 "moves each landing by the predicted DCM error, 0 ignores it."
             )
         self.dcm_step_gain = float(dcm_step_gain)
-        if not (np.isfinite(dcm_deadband) and dcm_deadband >= 0.0):
-            raise ConfigurationError(
-                f"dcm_deadband must be a non-negative distance [m], got {dcm_deadband!r}."
-            )
-        self.dcm_deadband = float(dcm_deadband)
         params = parameters if parameters is not None else self.default_parameters
         self.parameters = params.replace(**overrides) if overrides else params
         if reachability is None:
@@ -193,6 +199,10 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
                 f"{footstep_reference!r}."
             )
         self.footstep_reference = footstep_reference
+        self.late_adjustment = late_adjustment
+        self.swing_limits = None if swing_limits is None else SwingLimits(*swing_limits)
+        if freeze_before_landing is None:
+            freeze_before_landing = 2.0 * control_period if late_adjustment else 0.1
         for label, value in (
             ("freeze_before_landing", freeze_before_landing),
             ("publish_tolerance", publish_tolerance),
@@ -236,7 +246,8 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
 
     # ------------------------------------------------------------------ reset
     def _reset(self, schedule: ContactSchedule, initial_state: ComState) -> GeneratorOutput:
-        slots = FootstepSlots(schedule, self.reachability, self.planned_strides)
+        late = self.swing_limits or SwingLimits.for_walk(schedule, self.reachability)
+        slots = FootstepSlots(schedule, self.reachability, self.planned_strides, late=late)
         slots.check_reachable()
         self._slots = slots
         p = self.parameters
@@ -273,12 +284,10 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         offset = np.zeros(2)
         if len(steps_k):
             offset = self._capture_offset(t, float(slots.landing[steps_k[0]]))
+        absolute = self.footstep_reference == "absolute"
+        now = t + self.control_period if self.late_adjustment else None  # boxes the landings
         steps = slots.step_variables(
-            steps_k,
-            variable,
-            qp.nf,
-            absolute=self.footstep_reference == "absolute",
-            offset=offset,
+            steps_k, variable, qp.nf, absolute=absolute, offset=offset, now=now
         )
         eta = None
         profile = height_profile(slots.current, self.lipm.com_height)

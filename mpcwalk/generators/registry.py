@@ -63,6 +63,11 @@ GENERATORS: Registry[type[PatternGenerator]] = Registry(
             "Linear MPC that also places the next footsteps (Herdt et al. 2010).",
             _class("mpc_steps", "FootstepMpcGenerator"),
         ),
+        Entry(
+            "mpc-nlp",
+            "mpc-steps with optimal step timing: next landings and durations from a CasADi NLP.",
+            _class("mpc_nlp", "TimingNlpGenerator"),
+        ),
     ],
     list_command="mpcwalk generators",
     not_found=GeneratorNotFound,

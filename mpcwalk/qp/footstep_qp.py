@@ -283,7 +283,21 @@ class FootstepQP:
         fixed = steps.predecessor_xy[active]
         moved = np.einsum("rka,ra->rk", e, fixed)
         h_reach = np.where(chained[:, None], bounds, bounds + moved).ravel()
-        return np.vstack([G_zmp, G_reach]), np.concatenate([h_zmp, h_reach])
+        G_box, h_box = self._box_rows(steps)
+        return np.vstack([G_zmp, G_reach, G_box]), np.concatenate([h_zmp, h_reach, h_box])
+
+    def _box_rows(self, steps: StepVariables) -> tuple[np.ndarray, np.ndarray]:
+        """``|F_j - initial_j| <= box_j`` per world axis, for the finite half-widths of
+        ``steps.box`` (the late step adjustment's bound on a landing change)."""
+        if steps.box is None:
+            return np.zeros((0, self.n)), np.zeros(0)
+        j, a = np.nonzero(np.isfinite(steps.box) & steps.active[:, None])
+        columns = 2 * self.N + a * self.nf + j
+        G = np.zeros((2 * len(j), self.n))
+        G[np.arange(len(j)), columns] = 1.0
+        G[len(j) + np.arange(len(j)), columns] = -1.0
+        centre, half = steps.initial[j, a], steps.box[j, a]
+        return G, np.concatenate([centre + half, half - centre])
 
     def _terminal_dcm_rows(self, x0, supports: SampleSupports):
         """``normal . (xi_N - S_N F) <= offset``: the DCM at the last sample inside the

@@ -25,6 +25,7 @@ from mpcwalk.exceptions import InfeasibleStep
 from mpcwalk.footsteps.footstep import Side, wrap_angle
 from mpcwalk.footsteps.reachability import ReachabilityRectangle
 from mpcwalk.gait.contact_schedule import MAX_POLYGON_EDGES, ContactSchedule
+from mpcwalk.gait.swing_retarget import SwingLimits
 from mpcwalk.qp.footstep_parameters import blended_rectangles
 
 _BOUNDARY_EPS = 1e-9  # [s] a sample on a phase boundary belongs to the new phase
@@ -71,6 +72,9 @@ class StepVariables:
         lower: Lowest landing in the predecessor's frame (x, y), shape (nf, 2), in [m].
         upper: Highest landing, shape (nf, 2), in [m].
         initial: Current positions (warm start of the footstep entries), (nf, 2), in [m].
+        box: Half-widths of a box about ``initial`` (world x, y) each landing stays in, shape
+            (nf, 2), in [m] (late step adjustment: what the swing's time left allows); None
+            or inf: no box.
     """
 
     active: np.ndarray
@@ -82,6 +86,7 @@ class StepVariables:
     lower: np.ndarray
     upper: np.ndarray
     initial: np.ndarray
+    box: np.ndarray | None = None
 
 
 class FootstepSlots:
@@ -90,6 +95,9 @@ class FootstepSlots:
     Args:
         schedule: The walk's nominal schedule (footsteps, sides, yaws and timing).
         reachability: Landings allowed relative to the support foot.
+        planned_strides: Grow each step's bounds to hold its planned displacement.
+        late: Swing limits of the late step adjustment (None: no box on the landings; see
+            :meth:`step_variables`).
 
     Attributes:
         nominal: Planned positions of the slots, shape (nb_steps + 2, 2), in [m].
@@ -106,7 +114,9 @@ class FootstepSlots:
         schedule: ContactSchedule,
         reachability: ReachabilityRectangle,
         planned_strides: bool = False,
+        late: SwingLimits | None = None,
     ) -> None:
+        self.late = late
         plan = schedule.plan
         self.planned_strides = bool(planned_strides)
         self.nominal_schedule = schedule
@@ -257,6 +267,7 @@ class FootstepSlots:
         *,
         absolute: bool,
         offset: np.ndarray,
+        now: float | None = None,
     ) -> StepVariables:
         """Reference and reach of the footstep variables (steps ``steps_k``).
 
@@ -267,6 +278,10 @@ class FootstepSlots:
             absolute: Pull each footstep to its planned position moved by ``offset``;
                 False: to its planned displacement from its support foot.
             offset: Move of the absolute references, shape (2,), in [m].
+            now: Time [s] of the re-plan the footsteps go to (the output's), None: no box;
+                with ``late`` swing limits, each landing is boxed about its published position by
+                :meth:`~mpcwalk.gait.swing_retarget.SwingLimits.landing_change_bound` of the
+                time left until it.
         """
         active = np.zeros(nf, bool)
         M, r = np.eye(nf), np.zeros((nf, 2))
@@ -288,7 +303,12 @@ class FootstepSlots:
                     M[j, variable[p]] = -1.0
                 else:
                     r[j] += self.positions[p]
-        return StepVariables(active, M, r, pred, pred_xy, pred_yaw, lower, upper, initial)
+        half = None
+        if self.late is not None and now is not None:
+            half = np.full((nf, 2), np.inf)
+            box = self.late.landing_change_bound(self.landing[steps_k] - now)
+            half[: len(steps_k)] = np.asarray(box, dtype=float)[:, None]
+        return StepVariables(active, M, r, pred, pred_xy, pred_yaw, lower, upper, initial, half)
 
     def publish(
         self, steps_k: np.ndarray, footsteps: np.ndarray, tolerance: float

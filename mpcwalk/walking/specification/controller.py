@@ -18,9 +18,10 @@ them.
 - ``paper-a``: paper A's static gait: CoM above the support foot, quintic shifts in double
   support, the footstep re-aiming of its state machine, the ankle strategy with the IMU
   correction, quintic Cartesian swing (ctraj), at paper A's 12 s per step.
-- ``preview``, ``mpc``, ``mpc-steps``, ``mpc-timing``, ``static-qp``: the QP controllers,
-  closed loop on the estimated state with the balance stabilizer and the heading hold
-  (``static-qp`` at paper A's timing, re-aiming like paper A's gait).
+- ``preview``, ``mpc``, ``mpc-steps``, ``mpc-timing``, ``mpc-late``, ``mpc-timing-nlp``,
+  ``static-qp``: the QP controllers, closed loop on the estimated state with the balance
+  stabilizer and the heading hold (``static-qp`` at paper A's timing, re-aiming like paper
+  A's gait).
 """
 
 import dataclasses
@@ -234,6 +235,22 @@ CONTROLLERS: Registry[ControllerSpec] = Registry(
             "error points to the lifting foot) and the capturability constraint",
             generator="mpc-steps",
             generator_options={"timing_adaptation": True, "capturability": True},
+        ),
+        _named(
+            "mpc-late",
+            "mpc-steps with late step adjustment: landings free until two ticks before "
+            "touch-down, each change boxed by the swing's time left, the swing re-planned as "
+            "a quintic",
+            generator="mpc-steps",
+            generator_options={"late_adjustment": True},
+        ),
+        _named(
+            "mpc-timing-nlp",
+            "mpc-steps with optimal step timing: the next two landings and durations of a "
+            "nonlinear program (CasADi, IPOPT, warm-started), late step adjustment and the "
+            "capturability constraint",
+            generator="mpc-nlp",
+            generator_options={"capturability": True},
         ),
         _named(
             "static-qp",
