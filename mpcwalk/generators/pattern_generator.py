@@ -127,6 +127,11 @@ class PatternGenerator(ABC):
     #: ``(step duration [s], double support ratio)`` this generator walks with when the caller
     #: gives none, or None: the robot preset's (the dynamic gaits walk at any robot's timing).
     default_timing: ClassVar[tuple[float, float] | None] = None
+    #: Whether every single support holds the CoM above the support foot (paper A's static
+    #: gait): the swing leg then lands a step ahead of a CoM still above the other foot, on a
+    #: nearly straight knee at long steps, and the controller builder damps the whole-body IK
+    #: for it (:data:`~mpcwalk.walking.controller_builder.STATIC_IK_DAMPING`).
+    holds_com_over_support: ClassVar[bool] = False
 
     @classmethod
     def check_timing(cls, schedule: ContactSchedule, lipm: LIPM) -> None:

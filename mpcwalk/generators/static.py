@@ -73,6 +73,7 @@ class StaticGenerator(ClosedFormGenerator):
     name = "static"
     #: Paper A's timing: 12 s per step (r_ds 0.2: 2.4 s to move the CoM between the feet).
     default_timing: ClassVar[tuple[float, float] | None] = (12.0, 0.2)
+    holds_com_over_support: ClassVar[bool] = True
 
     @classmethod
     def check_timing(cls, schedule: ContactSchedule, lipm: LIPM) -> None:

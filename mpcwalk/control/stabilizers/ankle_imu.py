@@ -11,6 +11,22 @@ the body above by ``-q`` about the joint axis: the correction is ``dq_j = -u . a
 IMU correction: the body inclination (the estimated base roll and pitch, from the IMU;
 first-order low-pass filtered) is fed back the same way, turning the feet in contact so that the body comes back upright and
 the CoM back over the support.
+
+Gains on other robots (the servo stiffness rule). Paper A's gains are Atlas's. A correction
+``dq`` of an ankle joint asks its position servo for ``kp dq`` [N m]; what that torque does to
+the body is measured by the gravity torque of the body leaning on its ankle, ``m g z_c`` [N m
+per rad of lean] (m: total mass, z_c: CoM height). The ratio ``rho = kp / (m g z_c)`` of each
+ankle joint is 2.49 on ``atlas-like`` (:data:`PAPER_A_STIFFNESS_RATIO`: kp 4000 N m/rad, 150 kg,
+1.093 m). On a robot whose ankle servos are stiffer than that relative to its weight, the
+correction of each ankle joint is scaled by ``PAPER_A_STIFFNESS_RATIO / rho`` (its bound
+``max_correction`` with it), so that it asks for the same torque, relative to the body's
+gravity torque, as paper A's gains on Atlas; a robot with softer ankle servos keeps paper A's
+gains (scaling them up would drive the servos into their torque limits, and these robots walk
+with paper A's gains). ``atlas-like`` keeps paper A's gains exactly; ``talos`` (rho 2.58) gets
+0.97 of them, ``g1`` (1.35) and ``romeo`` (1.10) all of them, ``bioloid-like`` (hobby servos of
+50 N m/rad on a 2 kg robot, rho 11.0) 0.23 of them: with paper A's gains its noisy ankle
+targets (0.5 deg of jitter at every tick from the derivative term) made its stance foot creep
+and the robot yaw 15 deg during a 12 s step.
 """
 
 import math
@@ -22,6 +38,40 @@ from mpcwalk.control.stabilizers.base import Stabilizer, StabilizerInput
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Side
 from mpcwalk.robot.robot import Robot
+
+#: Ankle servo stiffness over the body's gravity stiffness, ``kp / (m g z_c)``, of paper A's
+#: robot (``atlas-like``: kp 4000 N m/rad, 150 kg, CoM 1.093 m above the soles).
+PAPER_A_STIFFNESS_RATIO = 4000.0 / (150.0 * 9.81 * 1.093)
+#: Ratios within this relative tolerance of paper A's count as paper A's (exact gains).
+_RATIO_TOLERANCE = 1e-3
+
+
+def stiffness_scale(
+    stiffness: float, mass: float, com_height: float, gravity: float = 9.81
+) -> float:
+    """Share of paper A's ankle correction an ankle joint gets (the servo stiffness rule of
+    the module docstring): ``min(1, PAPER_A_STIFFNESS_RATIO / rho)`` with ``rho = stiffness /
+    (mass gravity com_height)``, 1 within 0.1 % of paper A's ratio.
+
+    Args:
+        stiffness: The ankle joint's servo stiffness kp [N m/rad] (inf: no position servo, which gets no correction).
+        mass: The robot's total mass [kg].
+        com_height: Its CoM height above the soles [m].
+        gravity: Gravity [m/s^2].
+
+    Raises:
+        ConfigurationError: A mass, CoM height, gravity or stiffness that is not positive.
+    """
+    for name, value in (("stiffness", stiffness), ("mass", mass), ("com_height", com_height)):
+        if not value > 0.0:
+            raise ConfigurationError(
+                f"The ankle-imu stiffness rule needs a positive {name}, got {value!r}."
+            )
+    checked_number("gravity", gravity, low=0.0)
+    ratio = float(stiffness) / (float(mass) * float(gravity) * float(com_height))
+    if ratio <= PAPER_A_STIFFNESS_RATIO * (1.0 + _RATIO_TOLERANCE):
+        return 1.0
+    return PAPER_A_STIFFNESS_RATIO / ratio
 
 
 class AnkleImuStabilizer(Stabilizer):
@@ -35,6 +85,9 @@ class AnkleImuStabilizer(Stabilizer):
         imu_cutoff: Cut-off frequency of the IMU low-pass filter [Hz].
         max_correction: Bound of the correction of each ankle joint [rad].
         integral_limit: Bound of the integrated error [rad s].
+        stiffness_rule: Scale each ankle joint's correction by :func:`stiffness_scale` of the
+            robot's servo stiffness, mass and CoM height (False: paper A's gains on every
+            robot).
     """
 
     name = "ankle-imu"
@@ -49,6 +102,7 @@ class AnkleImuStabilizer(Stabilizer):
         imu_cutoff: float = 2.0,
         max_correction: float = 0.05,
         integral_limit: float = 0.1,
+        stiffness_rule: bool = True,
     ) -> None:
         values = dict(
             kp=kp,
@@ -66,7 +120,10 @@ class AnkleImuStabilizer(Stabilizer):
         self.kp, self.ki, self.kd = float(kp), float(ki), float(kd)
         self.imu_gain, self.imu_cutoff = float(imu_gain), float(imu_cutoff)
         self.max_correction, self.integral_limit = float(max_correction), float(integral_limit)
+        self.stiffness_rule = bool(stiffness_rule)
         self._joints: dict[Side, tuple[int, int]] | None = None
+        self.scales: dict[Side, np.ndarray] = {side: np.ones(2) for side in Side}
+        """Per side, the share (pitch, roll) of paper A's correction each ankle joint gets."""
         self._clear()
 
     def _clear(self) -> None:
@@ -76,9 +133,19 @@ class AnkleImuStabilizer(Stabilizer):
         self.last_correction = np.zeros(4)  # left pitch, left roll, right pitch, right roll
 
     def reset(self, inputs: StabilizerInput) -> None:
-        """Forget the filter and PID states; find the ankle joints of ``inputs.robot``."""
+        """Forget the filter and PID states; find the ankle joints of ``inputs.robot`` and
+        their share of the correction (the servo stiffness rule)."""
         self._clear()
-        self._joints = self._ankle_joints(inputs.robot)
+        robot = inputs.robot
+        self._joints = self._ankle_joints(robot)
+        self.scales = {side: np.ones(2) for side in Side}
+        if self.stiffness_rule:
+            stiffness = robot.servo_gains.stiffness
+            mass, height = robot.total_mass, robot.com_height
+            self.scales = {
+                side: np.array([stiffness_scale(float(stiffness[j]), mass, height) for j in joints])
+                for side, joints in self._joints.items()
+            }
 
     @staticmethod
     def _ankle_joints(robot: Robot) -> dict[Side, tuple[int, int]]:
@@ -151,7 +218,7 @@ class AnkleImuStabilizer(Stabilizer):
             index = 0 if side is Side.LEFT else 1
             pitch_joint, roll_joint = self._joints[side]
             axes = rotations[index]
-            dq = np.clip(
+            dq = self.scales[side] * np.clip(
                 [-command @ axes[:, 1], -command @ axes[:, 0]],
                 -self.max_correction,
                 self.max_correction,
