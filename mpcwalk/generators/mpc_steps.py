@@ -242,11 +242,15 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         p = self.parameters
         nf = int(np.ceil(p.duration / schedule.step_duration)) + 1
         if self.qp is None or self.qp.nf != nf:
-            self.qp = FootstepQP(self.lipm, p, nf)
+            self.qp = self._make_qp(nf)
         self._restart(initial_state)
         self.nb_publications = self.nb_not_capturable = self.nb_retimed = self.nb_held = 0
         self._retimed_steps, self._held = set(), (-1, 0.0)
         return self._output(0.0, self._state)
+
+    def _make_qp(self, nb_footsteps: int) -> FootstepQP:
+        """The QP of a walk whose horizon holds ``nb_footsteps`` footsteps."""
+        return FootstepQP(self.lipm, self.parameters, nb_footsteps)
 
     # ------------------------------------------------------------------ tick
     def _step(self, measured: ComState | None) -> GeneratorOutput:

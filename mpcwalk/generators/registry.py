@@ -63,6 +63,11 @@ GENERATORS: Registry[type[PatternGenerator]] = Registry(
             "Linear MPC that also places the next footsteps (Herdt et al. 2010).",
             _class("mpc_steps", "FootstepMpcGenerator"),
         ),
+        Entry(
+            "mpc-hip",
+            "mpc-steps with the upper body as a flywheel (the hip strategy, Pratt et al. 2006).",
+            _class("mpc_hip", "HipStrategyMpcGenerator"),
+        ),
     ],
     list_command="mpcwalk generators",
     not_found=GeneratorNotFound,

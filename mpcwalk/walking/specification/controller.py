@@ -17,7 +17,9 @@ them.
 - ``paper-a``: paper A's static gait: CoM above the support foot, quintic shifts in double
   support, the footstep re-aiming of its state machine, the ankle strategy with the IMU
   correction, quintic Cartesian swing (ctraj), at paper A's 12 s per step.
-- ``preview``, ``mpc``, ``mpc-steps``, ``mpc-timing``, ``static-qp``: the QP controllers,
+- ``preview``, ``mpc``, ``mpc-steps``, ``mpc-timing``, ``mpc-hip``, ``static-qp``: the QP
+  controllers (``mpc-hip``: ``mpc-timing`` with the hip strategy, the upper body as a
+  flywheel),
   closed loop on the estimated state with the balance stabilizer and the heading hold
   (``static-qp`` at paper A's timing, re-aiming like paper A's gait).
 """
@@ -230,6 +232,13 @@ CONTROLLERS: Registry[ControllerSpec] = Registry(
             "capture point would leave the leg's reach, a lift-off put off while the DCM "
             "error points to the lifting foot) and the capturability constraint",
             generator="mpc-steps",
+            generator_options={"timing_adaptation": True, "capturability": True},
+        ),
+        _named(
+            "mpc-hip",
+            "mpc-timing with the hip strategy: the upper body as a flywheel (its torque, "
+            "momentum and lean bounded by the robot's), the CMP beyond the support",
+            generator="mpc-hip",
             generator_options={"timing_adaptation": True, "capturability": True},
         ),
         _named(
