@@ -9,7 +9,6 @@ force ranges), its momentum the hip's speed limit times the inertia, and its lea
 distance from the nominal hip angles to their position limits, capped by ``max_lean``.
 """
 
-import mujoco
 import numpy as np
 import pinocchio as pin
 
@@ -51,7 +50,7 @@ def _torque_limit(robot, joint: str) -> float:
     if np.isfinite(limit) and limit > 0.0:
         return limit
     mj = robot.mj_model
-    joint_id = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_JOINT, joint)
+    joint_id = int(mj.joint(joint).id)  # (the MuJoCo model's own lookup: no import)
     for a in range(mj.nu):
         if int(mj.actuator_trnid[a, 0]) == joint_id and mj.actuator_forcelimited[a]:
             return float(np.max(np.abs(mj.actuator_forcerange[a])))
@@ -98,7 +97,9 @@ def upper_body_flywheel(
             j = model.joints[model.getJointId(joint)]
             torque = min(torque, _torque_limit(robot, joint))
             v_max = float(model.velocityLimit[j.idx_v])
-            speed = min(speed, v_max if np.isfinite(v_max) and v_max > 0 else DEFAULT_VELOCITY_LIMIT)
+            speed = min(
+                speed, v_max if np.isfinite(v_max) and v_max > 0 else DEFAULT_VELOCITY_LIMIT
+            )
             low, high = model.lowerPositionLimit[j.idx_q], model.upperPositionLimit[j.idx_q]
             lean = min(lean, float(q0[j.idx_q] - low), float(high - q0[j.idx_q]))
         I = float(rotational[row, row])

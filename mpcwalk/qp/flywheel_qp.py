@@ -171,7 +171,9 @@ class FlywheelFootstepQP(FootstepQP):
             )
             k_free = np.full(N, state[1, a])
             phi_free = maps["phi_state"] @ state[:, a]
-            scale_t, scale_k, scale_p = (1.0 / v if v > 0.0 else 1.0 for v in (tau_max, k_max, phi_max))
+            scale_t, scale_k, scale_p = (
+                1.0 / v if v > 0.0 else 1.0 for v in (tau_max, k_max, phi_max)
+            )
             H = (
                 fw.torque_weight * scale_t**2 * np.eye(M)
                 + fw.momentum_weight * scale_k**2 * maps["k"].T @ maps["k"]
