@@ -81,9 +81,18 @@ def test_static_generators_keep_the_com_inside(generator, command):
 
 
 def test_all_names_are_registered():
-    assert generator_names() == ["analytic", "static", "preview", "mpc", "static-qp", "mpc-steps"]
+    assert generator_names() == [
+        "analytic",
+        "static",
+        "preview",
+        "mpc",
+        "static-qp",
+        "mpc-steps",
+        "mpc-hip",
+    ]
     with pytest.raises(
         GeneratorNotFound,
-        match="available: analytic, static, preview, mpc, static-qp, mpc-steps. \\(mpcwalk generators",
+        match="available: analytic, static, preview, mpc, static-qp, mpc-steps, mpc-hip. "
+        "\\(mpcwalk generators",
     ):
         make_generator("zmp-magic")

@@ -164,7 +164,15 @@ def test_generators_are_built_from_robot_traits_without_a_robot():
 
 
 def test_the_registry_names_every_generator():
-    assert generator_names() == ["analytic", "static", "preview", "mpc", "static-qp", "mpc-steps"]
+    assert generator_names() == [
+        "analytic",
+        "static",
+        "preview",
+        "mpc",
+        "static-qp",
+        "mpc-steps",
+        "mpc-hip",
+    ]
     for name in generator_names():
         assert generator_class(name).name == name
     with pytest.raises(GeneratorNotFound, match="Unknown pattern generator 'zmp'.*mpc-steps"):

@@ -79,6 +79,7 @@ def _cases(solvers: Sequence[str] | None, include_peer: bool):
     if "quadprog" in available_solvers:  # the same with step timing and capturability
         timing = {"solver": "quadprog", "timing_adaptation": True, "capturability": True}
         cases.append(("mpc-timing quadprog", "mpc-steps", "quadprog", timing))
+        cases.append(("mpc-hip quadprog", "mpc-hip", "quadprog", timing))  # with the flywheel
     cases.append(
         (
             "static-qp osqp-direct (slow timing)",

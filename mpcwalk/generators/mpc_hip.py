@@ -82,8 +82,9 @@ class HipStrategyMpcGenerator(FootstepMpcGenerator):
                 f"flywheel_scale must be a non-negative number (share of the torque limit), "
                 f"got {flywheel_scale!r}."
             )
+        pitch, roll = limits.max_torque
         self.flywheel_limits = replace(
-            limits, max_torque=tuple(flywheel_scale * v for v in limits.max_torque)
+            limits, max_torque=(flywheel_scale * pitch, flywheel_scale * roll)
         )
         weights = (
             (FlywheelParameters.torque_weight, FlywheelParameters.momentum_weight)

@@ -99,7 +99,9 @@ class FlywheelLimits:
 
     def without_flywheel(self) -> "FlywheelLimits":
         """The same robot with no flywheel (zero torque): the plain LIPM."""
-        return FlywheelLimits(self.mass, self.inertia, 0.0, 0.0, 0.0, self.gravity)
+        return FlywheelLimits(
+            self.mass, self.inertia, (0.0, 0.0), (0.0, 0.0), (0.0, 0.0), self.gravity
+        )
 
     @property
     def weight(self) -> float:

@@ -104,7 +104,7 @@ class FlywheelFootstepQP(FootstepQP):
         self.n_base = self.n
         self.n = self.n_base + 2 * self.M
         self.flywheel_state = np.zeros((2, 2))
-        self._fly: tuple | None = None  # (lean, momentum) maps of the last update
+        self._fly: dict | None = None  # the lean and momentum maps of the last update
 
     def _flywheel_maps(self, first: float) -> dict:
         """Lean and momentum at the samples as ``free (N,) + map (N, M) tau`` per unit state
