@@ -106,6 +106,7 @@ def test_tick_benchmark_reduced_run():
         "mpc-steps daqp",
         "mpc-steps quadprog",
         "mpc-timing quadprog",
+        "mpc-hip quadprog",
         "qpmpc daqp (peer)",
     } <= set(labels)
     for r in results:

@@ -89,10 +89,11 @@ def test_all_names_are_registered():
         "static-qp",
         "mpc-steps",
         "mpc-nlp",
+        "mpc-hip",
     ]
     with pytest.raises(
         GeneratorNotFound,
-        match="available: analytic, static, preview, mpc, static-qp, mpc-steps, mpc-nlp. "
+        match="available: analytic, static, preview, mpc, static-qp, mpc-steps, mpc-nlp, mpc-hip. "
         "\\(mpcwalk generators",
     ):
         make_generator("zmp-magic")

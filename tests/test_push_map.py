@@ -4,6 +4,7 @@ maps, and the quick run of the experiment."""
 import json
 import math
 
+import numpy as np
 import pytest
 from conftest import get_robot
 
@@ -167,3 +168,19 @@ def test_the_quick_push_map_and_a_map_joined_to_it(tmp_path):
     # a joined folder of another grid is refused
     with pytest.raises(ConfigurationError, match="expected a push map on the same robot and grid"):
         joined_push_rows(replace(config, nb_directions=2), [tmp_path / "apart"])
+
+
+def test_every_cell_has_the_flywheel_bounds_beside_the_lipms(bounds):
+    """The upper body as a flywheel (bioloid-like's limits) widens every bound a little, and
+    the report gives each controller's share of them."""
+    for cell in bounds.values():
+        for n in (1, 2):
+            assert cell.flywheel[n] >= cell.fixed[n]
+    grown = [b.flywheel[1] / b.fixed[1] for b in bounds.values() if b.fixed[1] > 0]
+    assert 1.0 < float(np.median(grown)) < 1.2
+    cells = [c for c, b in bounds.items() if b.flywheel[1] > 0]
+    rows = _rows({"mpc": {c: bounds[c].flywheel[1] for c in cells}})
+    text = summary_table(rows, bounds)
+    assert "of the flywheel LIPM's 1-step bound, median" in text
+    line = next(row for row in text.splitlines() if row.startswith("| mpc |"))
+    assert "| 1.00 |" in line

@@ -165,7 +165,7 @@ def test_generators_are_built_from_robot_traits_without_a_robot():
 
 def test_the_registry_names_every_generator():
     assert generator_names() == [
-        *("analytic", "static", "preview", "mpc", "static-qp", "mpc-steps", "mpc-nlp")
+        *("analytic", "static", "preview", "mpc", "static-qp", "mpc-steps", "mpc-nlp", "mpc-hip")
     ]
     for name in generator_names():
         assert generator_class(name).name == name

@@ -83,6 +83,7 @@ def _cases(solvers: Sequence[str] | None, include_peer: bool):
         cases.append(("mpc-late quadprog", "mpc-steps", "quadprog", late))
         nlp = {"solver": "quadprog", "capturability": True}  # + the CasADi program (IPOPT)
         cases.append(("mpc-timing-nlp quadprog+ipopt", "mpc-nlp", "quadprog", nlp))
+        cases.append(("mpc-hip quadprog", "mpc-hip", "quadprog", timing))  # with the flywheel
     cases.append(
         (
             "static-qp osqp-direct (slow timing)",

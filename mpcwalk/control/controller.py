@@ -355,7 +355,7 @@ class WalkingController:
         self.faults.generator(failed)
         if output.schedule is not None and output.schedule is not self.schedule:
             self.follow_schedule(output.schedule)
-        gait = self.reference.targets(output.time, output.com)
+        gait = self.reference.targets(output.time, output.com, output.flywheel)
         for stabilizer in self._stabilizers:  # the balance stabilizer first
             inputs = self._stabilizer_input(output.time, gait, estimate, dcm_error)
             gait = stabilizer.adjust_targets(inputs)

@@ -17,6 +17,7 @@ from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.height_profile import height_profile
 from mpcwalk.gait.swing_foot import FeetState, FootState, SwingFootTrajectory
 from mpcwalk.ik.targets import IKTargets
+from mpcwalk.models.flywheel import FlywheelState
 from mpcwalk.terrain import Terrain
 
 _DIFFERENCE_STEP = 1e-5  # [s] of the swing foot's acceleration by finite differences
@@ -32,12 +33,16 @@ class GaitTargets:
     Attributes:
         feet: Feet poses and velocities (contact flags, step index).
         com_xy: Horizontal CoM position, shape (2,), in [m] (its height is the robot's).
-        torso_yaw: Torso yaw [rad] (the torso is kept upright).
+        torso_yaw: Torso yaw [rad] (the torso is kept upright, unless ``flywheel`` leans it).
+        flywheel: The upper body's lean and momentum a hip-strategy generator planned
+            (:class:`~mpcwalk.models.flywheel.FlywheelState`), or None: the torso leans by it
+            and the IK's angular-momentum task produces its momentum.
     """
 
     feet: FeetState
     com_xy: np.ndarray
     torso_yaw: float
+    flywheel: FlywheelState | None = None
 
     def ik_targets(self, ground_height: float, com_height: float) -> IKTargets:
         """IK targets: the CoM ``com_height`` [m] above ``ground_height`` [m], the soles at
@@ -46,11 +51,16 @@ class GaitTargets:
         the checks of ``IKTargets(...)``)."""
         com = np.array([self.com_xy[0], self.com_xy[1], ground_height + com_height])
         left, right = self.feet.left, self.feet.right
+        torso, momentum = _yaw_rotation(self.torso_yaw), None
+        if self.flywheel is not None:  # the hip strategy: lean and angular momentum
+            torso = pin.exp3(self.flywheel.rotation_vector) @ torso
+            momentum = self.flywheel.angular_momentum
         return IKTargets.trusted(
             com,
             pin.SE3(_sole_rotation(left), np.array(left.position, dtype=float)),
             pin.SE3(_sole_rotation(right), np.array(right.position, dtype=float)),
-            _yaw_rotation(self.torso_yaw),
+            torso,
+            angular_momentum=momentum,
         )
 
 
@@ -134,10 +144,13 @@ class GaitReference:
                 ) / _DIFFERENCE_STEP
             self.trajectory.restart_swing(t if now is None else now, foot, acceleration)
 
-    def targets(self, t: float, com_xy: np.ndarray) -> GaitTargets:
-        """Feet and torso-yaw targets at ``t`` [s], with the CoM ``com_xy`` [m]."""
+    def targets(
+        self, t: float, com_xy: np.ndarray, flywheel: FlywheelState | None = None
+    ) -> GaitTargets:
+        """Feet and torso-yaw targets at ``t`` [s], with the CoM ``com_xy`` [m] and the
+        upper body's ``flywheel`` (a hip-strategy generator's, else None)."""
         feet, yaw = self.trajectory.references(t)
-        return GaitTargets(feet, com_xy, float(yaw))
+        return GaitTargets(feet, com_xy, float(yaw), flywheel)
 
     def ik_targets(self, gait: GaitTargets, t: float) -> IKTargets:
         """IK targets of ``gait`` at ``t``: the CoM at the CoM height above the ground

@@ -67,6 +67,10 @@ class Box:
             factor * self.x_low, factor * self.x_high, factor * self.y_low, factor * self.y_high
         )
 
+    def grown(self, dx: float, dy: float) -> "Box":
+        """The rectangle grown by ``dx`` [m] on both sides along x and ``dy`` along y."""
+        return Box(self.x_low - dx, self.x_high + dx, self.y_low - dy, self.y_high + dy)
+
     def contains(self, point) -> bool:
         """Whether ``point`` (x, y) lies in the rectangle (borders included)."""
         x, y = float(point[0]), float(point[1])
@@ -155,6 +159,21 @@ def capture_regions(max_steps: int, **options) -> list[Box]:
     when it lies in one of the first N + 1 (a step is not always a help: a left foot that
     must land left of the stance foot cannot help against a push to the right)."""
     return [capture_region(n, **options) for n in range(int(max_steps) + 1)]
+
+
+def flywheel_regions(regions: list[Box], offset: tuple[float, float]) -> list[Box]:
+    """The capture regions of the LIPM with a flywheel (Pratt et al. 2006), used once from
+    now: each of ``regions`` (the LIPM's, :func:`capture_regions`) grown by the farthest the
+    flywheel moves the capture point along x and y, ``offset`` [m]
+    (:func:`mpcwalk.models.flywheel.cmp_offset_bound`). The DCM's capture condition is
+    linear in the CMP history, so a flywheel torque starting now shifts it by the same amount
+    whatever the steps that follow; zero offsets give the LIPM's regions."""
+    dx, dy = (float(v) for v in offset)
+    if not (math.isfinite(dx) and math.isfinite(dy) and dx >= 0.0 and dy >= 0.0):
+        raise ConfigurationError(
+            f"The flywheel's offset must be two non-negative distances [m], got {offset!r}."
+        )
+    return [box.grown(dx, dy) for box in regions]
 
 
 def largest_impulse(

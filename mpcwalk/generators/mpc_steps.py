@@ -1,16 +1,13 @@
 """Footstep-adaptive linear MPC (Herdt et al. 2010): the next footsteps are QP variables.
 
 Each tick solves :class:`~mpcwalk.qp.footstep_qp.FootstepQP`: the CoM tracks the commanded
-walking velocity (the average velocity of each step, Herdt's cost), the ZMP is pulled to the
-centre of its support and kept inside it, and the footsteps landing within the horizon are
-placed by the QP inside the reachability rectangle of the previous footstep (which keeps the
-minimum feet separation). Sides, timing and yaws are the plan's, so every constraint is
-linear. Departure from Herdt: a cost pulls each footstep towards the plan, so that an
-undisturbed walk steps on it.
-
-Which footsteps support each sample, and how far each landing may move, is the geometry of
-:class:`~mpcwalk.qp.footstep_supports.FootstepSlots`; the solve, the plan and the fallback
-are the receding-horizon core of :mod:`mpcwalk.generators.receding_horizon`.
+walking velocity (each step's average, Herdt's cost), the ZMP is pulled to the centre of its
+support and kept inside it, the footsteps landing within the horizon are placed inside the
+reachability rectangle of the previous one (which keeps the feet apart). Sides, timing and
+yaws are the plan's: every constraint is linear. Departure from Herdt: a cost pulls each
+footstep towards the plan, so that an undisturbed walk steps on it. The geometry is
+:class:`~mpcwalk.qp.footstep_supports.FootstepSlots`'s; the solve, the plan and the fallback
+are :mod:`mpcwalk.generators.receding_horizon`'s.
 
 Footsteps given to the controller (:attr:`GeneratorOutput.schedule`): landed feet and the
 support foot never move; the swing foot's landing is frozen ``freeze_before_landing``
@@ -253,11 +250,14 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         p = self.parameters
         nf = int(np.ceil(p.duration / schedule.step_duration)) + 1
         if self.qp is None or self.qp.nf != nf:
-            self.qp = FootstepQP(self.lipm, p, nf)
+            self.qp = self._make_qp(nf)
         self._restart(initial_state)
         self.nb_publications = self.nb_not_capturable = self.nb_retimed = self.nb_held = 0
         self._retimed_steps, self._held = set(), (-1, 0.0)
         return self._output(0.0, self._state)
+
+    def _make_qp(self, nb_footsteps: int) -> FootstepQP:  # a QP of nb_footsteps footsteps
+        return FootstepQP(self.lipm, self.parameters, nb_footsteps)
 
     # ------------------------------------------------------------------ tick
     def _step(self, measured: ComState | None) -> GeneratorOutput:

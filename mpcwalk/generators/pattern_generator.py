@@ -25,6 +25,7 @@ from mpcwalk.gait.height_profile import height_profile
 from mpcwalk.generators.robot_traits import RobotTraits
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.com_state import ComState
+from mpcwalk.models.flywheel import FlywheelState
 from mpcwalk.models.lipm import LIPM
 
 G = TypeVar("G", bound="PatternGenerator")
@@ -83,6 +84,9 @@ class GeneratorOutput:
         schedule: The contact schedule the generator follows from now on, when it changed
             it this tick (footstep-adaptive generators move the future footsteps); None when
             it did not. The controller then moves its swing foot and support polygons to it.
+        flywheel: The upper body's lean and angular momentum a hip-strategy generator plans
+            (:mod:`mpcwalk.models.flywheel`), None for the others; ``zmp`` is then the ZMP
+            (inside the support), not the CMP the CoM accelerates from.
     """
 
     time: float
@@ -94,6 +98,7 @@ class GeneratorOutput:
     horizon: Horizon | None = None
     solve: SolveInfo | None = None
     schedule: ContactSchedule | None = None
+    flywheel: FlywheelState | None = None
 
     @property
     def state(self) -> ComState:

@@ -68,6 +68,11 @@ GENERATORS: Registry[type[PatternGenerator]] = Registry(
             "mpc-steps with optimal step timing: next landings and durations from a CasADi NLP.",
             _class("mpc_nlp", "TimingNlpGenerator"),
         ),
+        Entry(
+            "mpc-hip",
+            "mpc-steps with the upper body as a flywheel (the hip strategy, Pratt et al. 2006).",
+            _class("mpc_hip", "HipStrategyMpcGenerator"),
+        ),
     ],
     list_command="mpcwalk generators",
     not_found=GeneratorNotFound,

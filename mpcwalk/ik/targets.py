@@ -65,6 +65,9 @@ class IKTargets:
             shape (6,), or None.
         right_sole_velocity: Right sole velocity, shape (6,), or None.
         torso_angular_velocity: Torso angular velocity, shape (3,), in [rad/s], or None.
+        angular_momentum: Centroidal angular momentum the step should produce (the hip
+            strategy's flywheel), world axes, shape (3,), in [kg m^2/s], or None: no
+            angular-momentum task (:mod:`mpcwalk.ik.momentum_task`).
 
     Raises:
         ConfigurationError: A field has the wrong shape, is not finite or is not a rotation.
@@ -78,6 +81,7 @@ class IKTargets:
     left_sole_velocity: np.ndarray | None = None
     right_sole_velocity: np.ndarray | None = None
     torso_angular_velocity: np.ndarray | None = None
+    angular_momentum: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         set_field = object.__setattr__
@@ -90,6 +94,7 @@ class IKTargets:
             ("left_sole_velocity", 6),
             ("right_sole_velocity", 6),
             ("torso_angular_velocity", 3),
+            ("angular_momentum", 3),
         ):
             value = getattr(self, name)
             if value is not None:
@@ -106,6 +111,7 @@ class IKTargets:
         left_sole_velocity: np.ndarray | None = None,
         right_sole_velocity: np.ndarray | None = None,
         torso_angular_velocity: np.ndarray | None = None,
+        angular_momentum: np.ndarray | None = None,
     ) -> "IKTargets":
         """Targets built without the checks of the constructor, for a caller whose values
         are valid by construction (the controller's gait references, every tick): float
@@ -121,6 +127,7 @@ class IKTargets:
         set_field(targets, "left_sole_velocity", left_sole_velocity)
         set_field(targets, "right_sole_velocity", right_sole_velocity)
         set_field(targets, "torso_angular_velocity", torso_angular_velocity)
+        set_field(targets, "angular_momentum", angular_momentum)
         return targets
 
     @property
@@ -189,6 +196,8 @@ class IKWeights:
         sole_orientation: Orientation of each sole [cost/rad].
         torso_orientation: Torso orientation [cost/rad].
         posture: Joint angles towards the reference posture [cost/rad].
+        angular_momentum: Centroidal angular momentum, as the upper body's equivalent
+            rotation [cost/rad] (only when a target gives one).
     """
 
     com: float = 10.0
@@ -196,6 +205,7 @@ class IKWeights:
     sole_orientation: float = 10.0
     torso_orientation: float = 1.0
     posture: float = 1e-2
+    angular_momentum: float = 1.0
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,8 @@
 """Whole-body differential IK on Pinocchio: one small QP per control tick.
 
-Each tick linearises the tasks (CoM, both soles in SE3, torso orientation, posture) at ``q``
-and solves for the displacement ``dq`` (``v = dq / dt``):
+Each tick linearises the tasks (CoM, both soles in SE3, torso orientation, posture and, when
+the targets carry one, the centroidal angular momentum of :mod:`mpcwalk.ik.momentum_task`) at
+``q`` and solves for the displacement ``dq`` (``v = dq / dt``):
 
     minimise   sum_i || W_i (J_i dq + gain e_i - dt ff_i) ||^2 + (damping + mu) ||dq||^2
     subject to lower_i <= dq_i <= upper_i     for every actuated joint i
@@ -26,8 +27,10 @@ from scipy.linalg import lapack
 from mpcwalk._checks import as_float
 from mpcwalk.exceptions import ConfigurationError, SolverNotFound
 from mpcwalk.ik.joint_bounds import JointBounds, solve_box_qp
+from mpcwalk.ik.momentum_task import AngularMomentumTask
 from mpcwalk.ik.targets import IKResult, IKTargets, IKWeights, TaskErrors
 from mpcwalk.ik.tasks import ComTask, FrameTask, PostureTask, update_kinematics
+from mpcwalk.ik.upper_body import upper_body_bodies, upper_body_inertia
 
 
 class WholeBodyIK:
@@ -146,6 +149,8 @@ class WholeBodyIK:
         self._joint_slice = slice(nv_root, model.nv)
         self._posture_hessian = np.zeros(model.nv)
         self._posture_hessian[nv_root:] = self.posture_task.weights**2
+        self.momentum_task: AngularMomentumTask | None = None  # made at its first target
+        self._momentum_target: np.ndarray | None = None
 
     @property
     def velocity_limit(self) -> np.ndarray:
@@ -180,6 +185,14 @@ class WholeBodyIK:
         if self.pelvis_task is not None:
             rotation = targets.torso_rotation @ self._pelvis_offset
             self.pelvis_task.set_checked_target(pin.SE3(rotation, np.zeros(3)), velocity)
+        self._momentum_target = targets.angular_momentum
+        if self._momentum_target is not None and self.momentum_task is None:
+            model, robot = self.model, self.robot
+            bodies = upper_body_bodies(model, robot.hip_joints)
+            rotational = upper_body_inertia(model, robot.q0, bodies).inertia
+            self.momentum_task = AngularMomentumTask(
+                (rotational[0, 0], rotational[1, 1]), self.weights.angular_momentum
+            )
 
     def _errors(self, posture_error: np.ndarray) -> TaskErrors:
         e = self._e[: self._error_starts[-1]]  # the pelvis task's error is not reported
@@ -218,6 +231,11 @@ class WholeBodyIK:
         H.flat[:: model.nv + 1] += self._posture_hessian + (self.damping + mu)
         c = -(A.T @ r)
         c[self._joint_slice] += self._posture_hessian[self._joint_slice] * (gain * posture_error)
+        if self._momentum_target is not None and self.momentum_task is not None:
+            self.momentum_task.set_target(self._momentum_target)
+            H_momentum, c_momentum = self.momentum_task.least_squares_terms(model, data, q, dt)
+            H += H_momentum
+            c += c_momentum
         lower, upper = self.bounds.compute(q, dt, limit_gain, velocity_bounds)
         return H, c, lower, upper, posture_error
 

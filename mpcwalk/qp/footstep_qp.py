@@ -61,6 +61,9 @@ class FootstepQP:
         self.m = 0
         self.terminal_rows = 0
         """Rows of the terminal DCM constraint in the last update (``capturability``)."""
+        self.cost_scale = 1.0
+        """Factor of the cost in the last update (its largest jerk or footstep diagonal
+        entry of ``P`` is 1)."""
         self.lipm = lipm
         self.model = CartTable(lipm, p.sampling_period)
         self._predictions: dict = {}
@@ -209,7 +212,7 @@ class FootstepQP:
         H[:N, N:] = -wz * pred["Pzu"].T @ S
         H[N:, :N] = H[:N, N:].T
         H[N:, N:] = wz * S.T @ S + wf * M.T @ M
-        scale = 2.0 / np.max(np.diag(H))  # largest diagonal entry of P is 1
+        scale = self.cost_scale = 2.0 / np.max(np.diag(H))  # largest diagonal entry of P is 1
         P, q = np.zeros((self.n, self.n)), np.empty(self.n)
         zmp_free, vel_free = pred["Pzs"] @ x0, pred["Pvs"] @ x0  # (N, 2)
         scaled = scale * H

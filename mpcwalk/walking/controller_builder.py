@@ -31,6 +31,7 @@ from mpcwalk.gait.gait_defaults import GaitDefaults
 from mpcwalk.generators import generator_class
 from mpcwalk.generators.registry import check_options
 from mpcwalk.ik.targets import IKWeights
+from mpcwalk.ik.upper_body import upper_body_flywheel
 from mpcwalk.ik.whole_body_ik import WholeBodyIK
 from mpcwalk.robot import Robot
 from mpcwalk.terrain import Terrain
@@ -97,6 +98,9 @@ def build_controller(
         # a footstep-adaptive generator takes the strides the terrain planner gave
         if "planned_strides" in inspect.signature(generator_class(spec.generator)).parameters:
             generator_options.setdefault("planned_strides", True)
+    if "flywheel_limits" in inspect.signature(generator_class(spec.generator)).parameters:
+        # the hip strategy: the upper body's limits from the robot's model
+        generator_options.setdefault("flywheel_limits", upper_body_flywheel(robot))
     if spec.arm_swing:
         options["arm_swing"] = spec.arm_swing
     if generator_class(spec.generator).holds_com_over_support:

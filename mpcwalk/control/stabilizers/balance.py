@@ -47,6 +47,7 @@ side). A CoM offset moves into the estimate, out of the DCM feedback and its int
 """
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -64,7 +65,7 @@ from mpcwalk.robot.sensors import ForceTorqueReading
 
 #: Generators whose closed loop includes the balance stabilizer by default (the QP
 #: generators); the closed forms of the papers keep their own stabilizers unless asked.
-BALANCED_GENERATORS = ("preview", "mpc", "mpc-steps", "static-qp")
+BALANCED_GENERATORS = ("preview", "mpc", "mpc-steps", "mpc-hip", "static-qp")
 
 
 class BalanceStabilizer(Stabilizer):
@@ -189,9 +190,7 @@ class BalanceStabilizer(Stabilizer):
             if cop is not None:
                 error = self._to_heading(cop - planned)
                 estimator.update(error, np.zeros(2), inputs.dcm_error, inputs.control_period)
-        return GaitTargets(
-            targets.feet, np.asarray(targets.com_xy) - self.com_offset, targets.torso_yaw
-        )
+        return replace(targets, com_xy=np.asarray(targets.com_xy) - self.com_offset)
 
     def adjust_joint_targets(
         self, inputs: StabilizerInput, joint_targets: np.ndarray

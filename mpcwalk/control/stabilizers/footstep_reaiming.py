@@ -254,6 +254,7 @@ class FootstepReaiming(Stabilizer):
             FeetState(feet.time, feet.step_index, states[Side.LEFT], states[Side.RIGHT]),
             np.asarray(com_xy) + mean[:2],
             torso_yaw + float(mean[2]),
+            inputs.targets.flywheel,
         )
 
 

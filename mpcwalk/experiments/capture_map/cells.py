@@ -16,10 +16,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mpcwalk.footsteps.capturability import Box, capture_regions, largest_impulse, sole_box
+from mpcwalk.footsteps.capturability import (
+    Box,
+    capture_regions,
+    flywheel_regions,
+    largest_impulse,
+    sole_box,
+)
 from mpcwalk.footsteps.footstep import FootGeometry, StepTiming
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators import make_generator, rollout
+from mpcwalk.ik.upper_body import upper_body_flywheel
+from mpcwalk.models.flywheel import cmp_offset_bound
 from mpcwalk.models.lipm import LIPM
 
 #: Shortest swing [s] an adapted step keeps (lift-off, clearance, touch-down).
@@ -31,13 +39,16 @@ class CaptureCell:
     """One cell of the map: the push direction [deg] (robot frame, 0 forward, 90 left), the
     phase (share of the step, 0 at its start), and the largest impulse [N s] with at most
     0, 1 and 2 steps, the first landing at the schedule's time (``fixed``) or at the best
-    time between the earliest the swing allows and the schedule's (``adaptive``)."""
+    time between the earliest the swing allows and the schedule's (``adaptive``), and with the
+    robot's upper body as a flywheel at the schedule's time (``flywheel``: the LIPM with a
+    flywheel of Pratt 2006, its limits :func:`~mpcwalk.ik.upper_body.upper_body_flywheel`'s)."""
 
     direction_deg: float
     phase: float
     single_support: bool
     fixed: tuple[float, float, float]
     adaptive: tuple[float, float, float]
+    flywheel: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
 
 def capture_map(
@@ -49,13 +60,16 @@ def capture_map(
     push_step: int = 2,
     nb_steps: int = 6,
     delay: float = 0.0,
+    flywheel_offset: tuple[float, float] | None = None,
 ) -> list[CaptureCell]:
     """The map of ``robot`` (a :class:`~mpcwalk.robot.Robot`) walking straight at
     ``speed_share`` of its nominal speed (the forward speed of a walk given no command,
     :meth:`~mpcwalk.footsteps.velocity_planner.VelocityPlanner.default_command`, as in the
     controllers' push map). ``delay`` [s]: the impulse acts that long after the phase's
     time (a push of duration ``2 delay`` starting at the phase acts, in the mean, at its
-    middle; the cell keeps its phase, ``single_support`` says where the impulse acts)."""
+    middle; the cell keeps its phase, ``single_support`` says where the impulse acts).
+    ``flywheel_offset`` [m]: how far the upper body moves the capture point along x and y
+    (None: :func:`~mpcwalk.models.flywheel.cmp_offset_bound` of the robot's upper body)."""
     gait, limits = robot.gait, robot.leg_limits
     timing = StepTiming(gait.step_duration, gait.double_support_ratio)
     from mpcwalk.footsteps.velocity_planner import VelocityPlanner
@@ -67,6 +81,8 @@ def capture_map(
     lipm = LIPM(com_height=robot.com_height)
     walk = rollout(make_generator("mpc", lipm=lipm), schedule)
     omega, mass = lipm.omega, robot.total_mass
+    if flywheel_offset is None:
+        flywheel_offset = cmp_offset_bound(upper_body_flywheel(robot), omega)
     sole, reach = sole_box(*robot.sole_size), limits.rectangle()
     T, t_b, t_e = timing.step_duration, schedule.t_b, schedule.t_e
     cells = []
@@ -128,6 +144,7 @@ def capture_map(
 
             fixed = impulses(options[-1])
             adaptive = np.max([impulses(regions) for regions in options], axis=0)
+            flywheel = impulses(flywheel_regions(options[-1], flywheel_offset))
             cells.append(
                 CaptureCell(
                     round(math.degrees(angle), 3),
@@ -135,6 +152,7 @@ def capture_map(
                     bool(single),
                     (float(fixed[0]), float(fixed[1]), float(fixed[2])),
                     (float(adaptive[0]), float(adaptive[1]), float(adaptive[2])),
+                    (float(flywheel[0]), float(flywheel[1]), float(flywheel[2])),
                 )
             )
     return cells

@@ -65,6 +65,7 @@ def _cells(row: dict[str, Any]) -> list[CaptureCell]:
             c["single_support"],
             tuple(c["fixed"]),
             tuple(c["adaptive"]),
+            tuple(c.get("flywheel", (0.0, 0.0, 0.0))),
         )
         for c in row["cells"]
     ]

@@ -43,7 +43,7 @@ class PushMapConfig:
     """The grid and the bisection (impulses as shares of the no-step capture bound)."""
 
     robot: str = "bioloid-like"
-    controllers: tuple[str, ...] = (REFERENCE, "mpc", "mpc-steps", "mpc-timing")
+    controllers: tuple[str, ...] = (REFERENCE, "mpc", "mpc-steps", "mpc-timing", "mpc-hip")
     nb_directions: int = 16
     nb_phases: int = 6
     speed_shares: tuple[float, ...] = (0.0, 1.0)

@@ -1,7 +1,8 @@
 """The push map's report: each controller's largest impulse per cell against ``paper-m``'s
 in the same cell and against the LIPM's capture bounds of that cell
 (:mod:`mpcwalk.experiments.capture_map.cells`: 0, 1 and 2 steps, the first landing at the
-schedule's time or at the best time the swing allows), the issue's goals checked on them,
+schedule's time or at the best time the swing allows, and the 1- and 2-step bounds of the
+LIPM with the robot's upper body as a flywheel), the issue's goals checked on them,
 the double-support cells, and the figures (:mod:`mpcwalk.experiments.push_map.plots`: polar
 plots against the bounds, heat maps of the ratios).
 """
@@ -85,6 +86,9 @@ def summary_table(rows: list[dict], bounds: dict[Cell, Any] | None = None) -> st
             line["two"] = median(list(two.values()))
             adaptive = _shares(values.get(controller, {}), bounds, "adaptive", 1)
             line["adaptive"] = median(list(adaptive.values()))
+            for n, key in ((1, "fly1"), (2, "fly2")):
+                flywheel = _shares(values.get(controller, {}), bounds, "flywheel", n)
+                line[key] = median(list(flywheel.values()))
         lines.append(line)
     columns = [
         ("controller", "controller", 0),
@@ -100,6 +104,8 @@ def summary_table(rows: list[dict], bounds: dict[Cell, Any] | None = None) -> st
             ("below", f"cells under {ONE_STEP_GOAL:.0%} of the 1-step bound", 0),
             ("two", "of the 2-step bound, median", 2),
             ("adaptive", "of the 1-step bound with adapted timing, median", 2),
+            ("fly1", "of the flywheel LIPM's 1-step bound, median", 2),
+            ("fly2", "of the flywheel LIPM's 2-step bound, median", 2),
         ]
     columns += [
         ("censored", "cells censored at the largest push", 0),

@@ -19,7 +19,8 @@ them.
   support, the footstep re-aiming of its state machine, the ankle strategy with the IMU
   correction, quintic Cartesian swing (ctraj), at paper A's 12 s per step.
 - ``preview``, ``mpc``, ``mpc-steps``, ``mpc-timing``, ``mpc-late``, ``mpc-timing-nlp``,
-  ``static-qp``: the QP controllers, closed loop on the estimated state with the balance
+  ``mpc-hip``, ``static-qp``: the QP controllers (``mpc-hip``: ``mpc-timing`` with the hip
+  strategy, the upper body as a flywheel), closed loop on the estimated state with the balance
   stabilizer and the heading hold (``static-qp`` at paper A's timing, re-aiming like paper
   A's gait).
 """
@@ -251,6 +252,13 @@ CONTROLLERS: Registry[ControllerSpec] = Registry(
             "capturability constraint",
             generator="mpc-nlp",
             generator_options={"capturability": True},
+        ),
+        _named(
+            "mpc-hip",
+            "mpc-timing with the hip strategy: the upper body as a flywheel (its torque, "
+            "momentum and lean bounded by the robot's), the CMP beyond the support",
+            generator="mpc-hip",
+            generator_options={"timing_adaptation": True, "capturability": True},
         ),
         _named(
             "static-qp",
