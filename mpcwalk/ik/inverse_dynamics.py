@@ -116,7 +116,8 @@ class InverseDynamicsQP:
             )
         self._limited = np.flatnonzero(np.isfinite(self.torque_limit))
         self.sole_ids = [robot.frame_id(frame) for frame in robot.foot_frames]
-        self.torso_id = robot.frame_id(torso_frame or robot.torso_frame)
+        self.torso_frame = torso_frame or robot.torso_frame
+        self.torso_id = robot.frame_id(self.torso_frame)
         self.solver_name = solver
         self.solver = make_solver(solver, **dict(solver_settings or {}))
         self._programs: dict[tuple[bool, bool], DynamicsProgram] = {}
@@ -140,6 +141,28 @@ class InverseDynamicsQP:
             self.solver.check(cast(FixedPatternProgram, program))
             self._programs[contacts] = program
         return program
+
+    def static_torques(self, q: np.ndarray) -> np.ndarray:
+        """Joint torques [N m] that hold configuration ``q`` at rest on both soles (the QP of
+        targets ``q`` reaches, the warm start left as it was)."""
+        robot = self.robot
+        left, right = robot.compute_sole_placements(q)
+        zero = np.zeros(3)
+        targets = DynamicsTargets(
+            com=robot.compute_com(q),
+            com_velocity=zero,
+            com_acceleration=zero,
+            left_sole=left,
+            right_sole=right,
+            torso_rotation=robot.compute_frame_placement(q, self.torso_frame).rotation,
+            posture=q,
+        )
+        contacts, torques = self._contacts, self._torques
+        result = self.solve(q, np.zeros(self.nv), targets)
+        self._contacts = contacts
+        if not result.success:
+            self._torques = torques
+        return result.torques
 
     # ------------------------------------------------------------------ kinematics
     def _kinematics(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
