@@ -122,9 +122,12 @@ class TorqueController(WalkingController):
         shift = output.zmp_command - reference.zmp
         acceleration_xy = reference.com_acceleration - omega**2 * shift
         height_rate = (output.com_target[2] - previous.com_target[2]) / dt
-        feet, feet_before = (output.feet.left, output.feet.right), (
-            previous.feet.left,
-            previous.feet.right,
+        feet, feet_before = (
+            (output.feet.left, output.feet.right),
+            (
+                previous.feet.left,
+                previous.feet.right,
+            ),
         )
         poses, velocities, accelerations = [], [], []
         for foot, before in zip(feet, feet_before):

@@ -23,9 +23,9 @@ import inspect
 from collections.abc import Sequence
 
 from mpcwalk.control.controller import WalkingController
-from mpcwalk.control.torque_controller import TorqueController
 from mpcwalk.control.stabilizers import StabilizerChain, make_stabilizer
 from mpcwalk.control.stabilizers.base import Stabilizer
+from mpcwalk.control.torque_controller import TorqueController
 from mpcwalk.footsteps.footstep import StepTiming
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.gait_defaults import GaitDefaults
