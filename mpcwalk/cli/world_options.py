@@ -132,6 +132,14 @@ def add_world_options(p: argparse.ArgumentParser) -> None:
         help="factor on the servos' gains and torque limits of the simulated robot (default: 1)",
     )
     world.add_argument(
+        "--actuation",
+        choices=("position", "torque"),
+        default=S,
+        help="how the joints are driven: the robot's position servos fed by the IK, or torque "
+        "motors with its torque limits fed by the whole-body inverse dynamics (default: "
+        "position)",
+    )
+    world.add_argument(
         "--ground-tilt",
         type=float,
         default=S,

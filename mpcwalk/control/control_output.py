@@ -6,6 +6,7 @@ import numpy as np
 
 from mpcwalk.gait.swing_foot import FeetState
 from mpcwalk.generators.pattern_generator import GeneratorOutput
+from mpcwalk.ik.dynamics_targets import DynamicsResult
 from mpcwalk.ik.targets import IKResult
 
 
@@ -37,6 +38,11 @@ class ControlOutput:
             model's, shape (2,), in [m] (zero without it).
         zmp_integral: The balance stabilizer's integral term in ``zmp_command``, shape (2,),
             in [m] (zero without it).
+        joint_torques: Motor torques, shape (nq - 7,), in [N m] (``robot.joint_names``
+            order), of a torque-controlled robot
+            (:class:`~mpcwalk.control.torque_controller.TorqueController`); None for
+            position servos.
+        dynamics: The inverse dynamics' result of the tick (torque control), or None.
     """
 
     time: float
@@ -54,3 +60,5 @@ class ControlOutput:
     generator_failed: bool = False
     com_offset: np.ndarray = field(default_factory=lambda: np.zeros(2))
     zmp_integral: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    joint_torques: np.ndarray | None = None
+    dynamics: DynamicsResult | None = None

@@ -1,5 +1,13 @@
-"""Whole-body IK on Pinocchio (tasks, QP per tick) and the analytic leg IK of paper M."""
+"""Whole-body IK on Pinocchio (tasks, QP per tick), the analytic leg IK of paper M and the
+whole-body inverse dynamics (a QP per tick giving the joint torques)."""
 
+from mpcwalk.ik.dynamics_targets import (
+    DynamicsGains,
+    DynamicsResult,
+    DynamicsTargets,
+    DynamicsWeights,
+)
+from mpcwalk.ik.inverse_dynamics import InverseDynamicsQP, torque_limits
 from mpcwalk.ik.joint_bounds import DEFAULT_VELOCITY_LIMIT, JointBounds, solve_box_qp
 from mpcwalk.ik.leg_ik import AnalyticLegIK, LegGeometry
 from mpcwalk.ik.targets import IKResult, IKTargets, IKWeights, TaskErrors
@@ -10,10 +18,15 @@ __all__ = [
     "DEFAULT_VELOCITY_LIMIT",
     "AnalyticLegIK",
     "ComTask",
+    "DynamicsGains",
+    "DynamicsResult",
+    "DynamicsTargets",
+    "DynamicsWeights",
     "FrameTask",
     "IKResult",
     "IKTargets",
     "IKWeights",
+    "InverseDynamicsQP",
     "JointBounds",
     "LegGeometry",
     "PostureTask",
@@ -21,5 +34,6 @@ __all__ = [
     "TaskErrors",
     "WholeBodyIK",
     "solve_box_qp",
+    "torque_limits",
     "update_kinematics",
 ]

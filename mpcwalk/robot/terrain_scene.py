@@ -79,8 +79,14 @@ def terrain_model(robot: "Robot", terrain: Terrain | None) -> mujoco.MjModel:
     return _compiled(robot, terrain)
 
 
-@functools.lru_cache(maxsize=4)
-def _compiled(robot: "Robot", terrain: Terrain) -> mujoco.MjModel:
+def scene_spec(robot: "Robot") -> mujoco.MjSpec:
+    """A copy of the spec ``robot.mj_model`` was compiled from (built again for a robot from
+    another process), to compile the robot's scene again with more in it.
+
+    Raises:
+        ConfigurationError: A robot whose scene cannot be compiled again (its MuJoCo model
+            changed by hand).
+    """
     spec = kept_spec(robot.mj_model)
     if spec is None:  # a robot from another process: its scene built again
         from mpcwalk.robot.loading import build_robot
@@ -95,6 +101,12 @@ def _compiled(robot: "Robot", terrain: Terrain) -> mujoco.MjModel:
                 f"{robot.description_path.name} compiles to, so no terrain can be laid in its "
                 "scene; load the robot with load_robot and leave its mj_model as it is."
             )
+    return spec
+
+
+@functools.lru_cache(maxsize=4)
+def _compiled(robot: "Robot", terrain: Terrain) -> mujoco.MjModel:
+    spec = scene_spec(robot)
     add_terrain(spec, terrain)
     try:
         model = spec.compile()
@@ -108,4 +120,4 @@ def _compiled(robot: "Robot", terrain: Terrain) -> mujoco.MjModel:
     return model
 
 
-__all__ = ["FLOOR", "TERRAIN", "add_terrain", "box_name", "terrain_model"]
+__all__ = ["FLOOR", "TERRAIN", "add_terrain", "box_name", "scene_spec", "terrain_model"]

@@ -1,4 +1,5 @@
-"""MuJoCo simulation of one robot: position servos, sensors, contacts, CoP, pushes.
+"""MuJoCo simulation of one robot: position servos or torque motors, sensors, contacts, CoP,
+pushes.
 
 Each control period the simulation reports its ground truth and what the robot senses: the
 readings of its IMU, joint encoders and foot force/torque sensors with the noise, bias,
@@ -17,7 +18,7 @@ import numpy as np
 from mpcwalk.exceptions import ConfigurationError, SimulationUnstable
 from mpcwalk.robot.ground import Ground
 from mpcwalk.robot.robot import Robot
-from mpcwalk.robot.terrain_scene import terrain_model
+from mpcwalk.sim.actuation import actuated_model, check_actuation
 from mpcwalk.sim.contacts import ContactWrenches
 from mpcwalk.sim.ground_truth import GroundTruth
 from mpcwalk.sim.model_mismatch import ModelMismatch, trunk_body
@@ -46,7 +47,7 @@ def make_mj_data(robot: Robot, q: np.ndarray | None = None) -> mujoco.MjData:
 
 
 class Simulation:
-    """One robot on a floor or a terrain in MuJoCo, driven by position actuators.
+    """One robot on a floor or a terrain in MuJoCo, driven by position servos or torque motors.
 
     The simulation owns a copy of ``robot.mj_model`` (changing its time step or its mismatch
     leaves the robot's model alone), or of its scene with the terrain's blocks
@@ -73,6 +74,8 @@ class Simulation:
             (:class:`~mpcwalk.terrain.Terrain`); None for the level floor.
         contact_threshold: Vertical force [N] above which a foot is in contact in the ground
             truth; None for 1 % of the simulated robot's weight.
+        actuation: ``"position"`` (the robot's position servos, fed joint angles) or
+            ``"torque"`` (torque motors, fed joint torques: :mod:`mpcwalk.sim.actuation`).
 
     Raises:
         ConfigurationError: Non-positive periods, or a control period that is not a
@@ -92,10 +95,12 @@ class Simulation:
         contact_threshold: float | None = None,
         ground: Ground | None = None,
         terrain: Terrain | None = None,
+        actuation: str = "position",
     ) -> None:
         self.robot = robot
         self.terrain = None if terrain is None or terrain.is_flat else terrain
-        self.model: mujoco.MjModel = copy.copy(terrain_model(robot, self.terrain))
+        self.actuation = check_actuation(actuation)
+        self.model: mujoco.MjModel = copy.copy(actuated_model(robot, self.terrain, actuation))
         if timestep is not None:
             if not (math.isfinite(timestep) and timestep > 0.0):
                 raise ConfigurationError(f"timestep must be > 0 s, got {timestep!r}.")
@@ -170,7 +175,8 @@ class Simulation:
         """Put the robot at ``q`` (Pinocchio configuration, default ``robot.q0``) at rest.
 
         Args:
-            q: Configuration; the actuators hold its joint angles.
+            q: Configuration; the actuators hold its joint angles (torque motors: its static
+                torques on both feet).
             v: Velocity (Pinocchio convention); None for zero.
             settle: Simulate this long [s] holding ``q`` first (the robot sinks into its
                 contacts); the clock then restarts at 0.
@@ -188,7 +194,7 @@ class Simulation:
         self.data.qpos[:] = self.robot.q_to_qpos(q)
         if v is not None:
             self.data.qvel[:] = self.robot.v_to_qvel(q, np.asarray(v, dtype=float))
-        self.data.ctrl[:] = self.robot.q_to_ctrl(q)
+        self.data.ctrl[:] = self._holding_ctrl(q)
         nb_settle = round(settle / self.timestep)
         if nb_settle > 0:
             mujoco.mj_step(self.model, self.data, nb_settle)
@@ -199,24 +205,60 @@ class Simulation:
         self._state = self._compute_state(first=True)
         return self._state
 
-    def step(self, joint_targets: np.ndarray | None = None) -> SimState:
-        """Simulate one control period holding the joint targets.
+    def _holding_ctrl(self, q: np.ndarray) -> np.ndarray:
+        """Controls that hold ``q``: its joint angles, or its static torques on both feet."""
+        if self.actuation == "position":
+            return self.robot.q_to_ctrl(q)
+        from mpcwalk.control.servo_feedforward import ServoFeedforward
+
+        torques = ServoFeedforward(self.robot).compute_torques(q, (0.5, 0.5))
+        return self._torque_ctrl(torques)
+
+    def _torque_ctrl(self, torques: np.ndarray) -> np.ndarray:
+        torques = np.asarray(torques, dtype=float)
+        nb_joints = len(self.robot.joint_names)
+        if torques.shape != (nb_joints,) or not np.all(np.isfinite(torques)):
+            raise ConfigurationError(
+                f"Joint torques must be {nb_joints} finite numbers (robot.joint_names order), "
+                f"got shape {torques.shape}; check the inverse dynamics' output."
+            )
+        q = self.robot.q0.copy()  # the torques ride on the configuration's joint slots
+        q[7:] = torques
+        return self.robot.q_to_ctrl(q)
+
+    def step(
+        self, joint_targets: np.ndarray | None = None, *, torques: np.ndarray | None = None
+    ) -> SimState:
+        """Simulate one control period holding the joint targets (position servos) or the
+        joint torques (torque motors).
 
         Args:
             joint_targets: Joint angles [rad] in Pinocchio order (``robot.joint_names``,
                 size nq - 7), or a full configuration (size nq) whose joint angles are used;
-                None keeps the previous targets.
+                None keeps the previous targets. Position servos only.
+            torques: Joint torques [N m] in ``robot.joint_names`` order; None keeps the
+                previous ones. Torque motors only.
 
         Returns:
             The state at the end of the period.
 
         Raises:
-            ConfigurationError: Targets of the wrong size or not finite.
+            ConfigurationError: Targets or torques of the wrong size or not finite, or given
+                to actuators that do not take them.
             SimulationUnstable: MuJoCo's integration diverged (MuJoCo has then reset its
                 data; call :meth:`reset` before stepping again).
         """
+        torque = self.actuation == "torque"
+        if (joint_targets is not None and torque) or (torques is not None and not torque):
+            raise ConfigurationError(
+                f"This simulation's joints are driven by {self.actuation} actuators: give "
+                f"{'torques=' if torque else 'joint_targets'} to step(), not "
+                f"{'joint_targets' if torque else 'torques='}."
+            )
         if joint_targets is not None:
             self.data.ctrl[:] = self._ctrl_of(joint_targets)
+        if torques is not None:
+            self.data.ctrl[:] = self._torque_ctrl(torques)
         imu_sum = np.zeros(6)  # the IMU reports its readings averaged over the period
         imu_now = self.ground_truth.imu_now
         for _ in range(self.nb_substeps):

@@ -135,7 +135,10 @@ class ControlLoop:
                 output = controller.step(estimate)
                 sim_start = time.perf_counter()
                 try:
-                    state = simulation.step(output.joint_targets)
+                    if output.joint_torques is not None:  # torque motors
+                        state = simulation.step(torques=output.joint_torques)
+                    else:
+                        state = simulation.step(output.joint_targets)
                 except SimulationUnstable as error:
                     fall = FallStatus(True, f"simulation diverged ({error})", simulation.time)
                     break

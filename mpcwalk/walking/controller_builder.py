@@ -25,6 +25,7 @@ from collections.abc import Sequence
 from mpcwalk.control.controller import WalkingController
 from mpcwalk.control.stabilizers import StabilizerChain, make_stabilizer
 from mpcwalk.control.stabilizers.base import Stabilizer
+from mpcwalk.control.torque_controller import TorqueController
 from mpcwalk.footsteps.footstep import StepTiming
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.gait_defaults import GaitDefaults
@@ -76,12 +77,14 @@ def build_controller(
     control_period: float,
     step_height: float,
     terrain: Terrain | None = None,
+    actuation: str = "position",
 ) -> WalkingController:
     """The controller of ``spec`` on ``robot``, following ``schedule``.
 
     The robot preset's ``dcm_gain`` and ``observer_gain`` come first, the specification's
     controller options over them. A generator that holds the CoM above the support foot gets
-    the IK damped by :data:`STATIC_IK_DAMPING`.
+    the IK damped by :data:`STATIC_IK_DAMPING`. A torque-controlled robot (``actuation``
+    ``"torque"``) gets a :class:`~mpcwalk.control.torque_controller.TorqueController`.
     """
     check_controller(spec)
     gait = robot.gait
@@ -108,7 +111,8 @@ def build_controller(
     stabilizer = build_stabilizer(spec.stabilizers)
     if stabilizer is not None:
         options["stabilizer"] = stabilizer
-    return WalkingController.for_robot(
+    controller_class = TorqueController if actuation == "torque" else WalkingController
+    return controller_class.for_robot(
         robot,
         spec.generator,
         schedule,

@@ -134,6 +134,7 @@ def _walk(
         control_period=period,
         step_height=setup.step_height,
         terrain=world.terrain,
+        actuation=world.actuation,
     )
     simulation = Simulation(
         robot,
@@ -144,6 +145,7 @@ def _walk(
         seed=run.seed,
         ground=world.ground(seed=run.seed),
         terrain=world.terrain,
+        actuation=world.actuation,
     )
     estimator = (
         Estimator(  # tuned to the robot's data sheet, whatever the world's sensors do

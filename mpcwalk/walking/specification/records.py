@@ -124,6 +124,8 @@ def command_line(spec: Any, out: str = "walk") -> str:
     for option, value, default in options:
         if value != default and value is not None:
             words += [option, _text(value)]
+    if world.actuation != "position":
+        words += ["--actuation", world.actuation]
     if world.ideal:
         words.append("--ideal")
     if world.state != ("oracle" if world.ideal else "estimator"):

@@ -247,6 +247,8 @@ class WalkSpec:
         values = self.to_dict()
         if values["world"]["terrain"] is None:  # walks on the floor keep their ids
             del values["world"]["terrain"]
+        if values["world"]["actuation"] == "position":  # position-servo walks keep theirs
+            del values["world"]["actuation"]
         text = json.dumps(values, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 

@@ -12,6 +12,9 @@ The simulated robot is a real one in these ways:
   offset, friction, servo strength), never applied to the controller's model;
 - the :class:`~mpcwalk.robot.ground.Ground` (tilt, bumps), the controller's model staying on
   a level floor;
+- the robot's actuators (``actuation``): the position servos of its description, or torque
+  motors driven by the whole-body inverse dynamics (:mod:`mpcwalk.sim.actuation`,
+  :class:`~mpcwalk.control.torque_controller.TorqueController`);
 - the :class:`~mpcwalk.terrain.Terrain` (stairs, slopes, platforms, stepping stones, rough
   patches laid along the robot's initial heading), built into the simulated scene; the
   walk's set-up checks that it fits the robot.
@@ -27,6 +30,7 @@ from typing import TYPE_CHECKING, Any
 from mpcwalk.estimation.estimated_state import SOURCES
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.ground import Ground
+from mpcwalk.sim.actuation import check_actuation
 from mpcwalk.sim.model_mismatch import ModelMismatch
 from mpcwalk.terrain import Terrain, terrain_from_dict
 
@@ -59,6 +63,9 @@ class WorldSpec:
         terrain: The terrain (:class:`~mpcwalk.terrain.Terrain`, or the tables of a terrain
             file as a dict, read as one); None, or a terrain without features: the level
             floor.
+        actuation: ``"position"`` (the robot's position servos, fed by the IK) or
+            ``"torque"`` (torque motors with the robot's torque limits, fed by the whole-body
+            inverse dynamics).
 
     Raises:
         ConfigurationError: A value out of its range (the model mismatch's and the ground's
@@ -79,6 +86,7 @@ class WorldSpec:
     ground_tilt_direction: float = 0.0
     ground_roughness: float = 0.0
     terrain: Terrain | None = None
+    actuation: str = "position"
 
     def __post_init__(self) -> None:
         if not (
@@ -120,6 +128,7 @@ class WorldSpec:
         self.model_mismatch  # noqa: B018 - its checks, now
         self.ground(seed=0)  # likewise
         object.__setattr__(self, "terrain", _terrain(self.terrain))
+        check_actuation(self.actuation)
         if self.terrain is not None and self.ground_roughness != 0.0:
             raise ConfigurationError(
                 f"A terrain and ground_roughness = {self.ground_roughness!r} do not go together "

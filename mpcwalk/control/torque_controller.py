@@ -1,0 +1,182 @@
+"""Torque control: the walking controller's tick, then the whole-body inverse dynamics.
+
+A torque-controlled robot (``actuation = "torque"``, :mod:`mpcwalk.sim.actuation`) runs the
+tick of :class:`~mpcwalk.control.controller.WalkingController` unchanged (generator, swing and
+torso trajectories, DCM feedback, whole-body IK: the IK's ``q_ref`` stays the kinematic
+reference), then turns it into joint torques with
+:class:`~mpcwalk.ik.inverse_dynamics.InverseDynamicsQP` on the estimated state:
+
+- the CoM acceleration is the generator's, minus ``omega^2`` times the DCM feedback's ZMP
+  shift (the LIPM's ``c'' = omega^2 (c - p)`` with the desired ZMP ``p``: what the servo
+  feed-forward realises with a base acceleration in position mode), with a PD on the
+  estimated CoM towards the IK's CoM target;
+- the swing soles follow the gait's poses and velocities, their accelerations the finite
+  difference of the velocities;
+- the torso follows the gait's yaw; the posture is the IK's ``q_ref`` and velocity;
+- the load of each sole (:func:`contact_loads`) ramps from 0 to 1 over ``ramp_time`` after
+  touch-down and back to 0 before lift-off, so that the torques do not jump at a switch.
+
+The position servos' joint targets are still computed (and logged); the motors get the
+torques of :attr:`~mpcwalk.control.control_output.ControlOutput.joint_torques`.
+"""
+
+import dataclasses
+import math
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from mpcwalk.control.control_output import ControlOutput
+from mpcwalk.control.controller import WalkingController
+from mpcwalk.estimation.estimated_state import EstimatedState
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.footsteps import Side
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.ik.dynamics_targets import DynamicsTargets
+from mpcwalk.ik.inverse_dynamics import InverseDynamicsQP
+from mpcwalk.models.com_state import ComState
+
+
+def contact_loads(schedule: ContactSchedule, t: float, ramp_time: float) -> tuple[float, float]:
+    """Load of the left and right soles at ``t`` [s], in [0, 1]: 0 off the ground, rising
+    linearly to 1 over ``ramp_time`` [s] after touch-down and falling to 0 over ``ramp_time``
+    before lift-off (none at the schedule's start and end)."""
+    phases = schedule.phases
+    index = schedule.phase_at(t)
+    loads = []
+    for side in (Side.LEFT, Side.RIGHT):
+        if side not in phases[index].feet:
+            loads.append(0.0)
+            continue
+        first = last = index
+        while first > 0 and side in phases[first - 1].feet:
+            first -= 1
+        while last < len(phases) - 1 and side in phases[last + 1].feet:
+            last += 1
+        touch_down = -math.inf if first == 0 else phases[first].start
+        lift_off = math.inf if last == len(phases) - 1 else phases[last].end
+        if ramp_time <= 0.0:
+            loads.append(1.0)
+            continue
+        share = min(t - touch_down, lift_off - t) / ramp_time
+        loads.append(float(min(max(share, 0.0), 1.0)))
+    return loads[0], loads[1]
+
+
+def _yaw_rotation(yaw: float) -> np.ndarray:
+    c, s = math.cos(yaw), math.sin(yaw)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+class TorqueController(WalkingController):
+    """:class:`~mpcwalk.control.controller.WalkingController` whose output also carries the
+    joint torques of the whole-body inverse dynamics.
+
+    Args:
+        robot: The robot.
+        generator: Pattern generator (as :class:`WalkingController`).
+        schedule: Footsteps and contact phases.
+        inverse_dynamics: The inverse-dynamics QP (default: ``InverseDynamicsQP(robot)``).
+        ramp_time: Duration [s] of the load ramp of a sole at touch-down and lift-off, >= 0.
+        options: The other options of :class:`WalkingController`.
+
+    Raises:
+        ConfigurationError: A negative ramp time, or the options' own errors.
+    """
+
+    def __init__(
+        self,
+        robot,
+        generator,
+        schedule: ContactSchedule,
+        *,
+        inverse_dynamics: InverseDynamicsQP | None = None,
+        ramp_time: float = 0.04,
+        **options: Any,
+    ) -> None:
+        super().__init__(robot, generator, schedule, **options)
+        if not (math.isfinite(ramp_time) and ramp_time >= 0.0):
+            raise ConfigurationError(f"ramp_time must be >= 0 [s], got {ramp_time!r}.")
+        self.ramp_time = float(ramp_time)
+        self.inverse_dynamics = (
+            InverseDynamicsQP(robot) if inverse_dynamics is None else inverse_dynamics
+        )
+        self.dynamics_failures = 0
+        """Ticks whose inverse dynamics failed (the previous torques were held)."""
+
+    def reset(self, q: np.ndarray | None = None) -> ControlOutput:
+        output = super().reset(q)
+        self.inverse_dynamics.reset()
+        self.dynamics_failures = 0
+        q_start = output.q_ref
+        torques = self.inverse_dynamics.static_torques(q_start)
+        self.last_output = dataclasses.replace(output, joint_torques=torques)
+        return self.last_output
+
+    def targets(self, output: ControlOutput, previous: ControlOutput) -> DynamicsTargets:
+        """The inverse dynamics' references of the tick that produced ``output``."""
+        dt = self.control_period
+        reference = output.generator
+        omega = self.generator.lipm.omega
+        shift = output.zmp_command - reference.zmp
+        acceleration_xy = reference.com_acceleration - omega**2 * shift
+        height_rate = (output.com_target[2] - previous.com_target[2]) / dt
+        feet, feet_before = (
+            (output.feet.left, output.feet.right),
+            (
+                previous.feet.left,
+                previous.feet.right,
+            ),
+        )
+        poses, velocities, accelerations = [], [], []
+        for foot, before in zip(feet, feet_before):
+            poses.append(pin.SE3(foot.transform))
+            velocity = np.concatenate([foot.linear_velocity, foot.angular_velocity])
+            velocity_before = np.concatenate([before.linear_velocity, before.angular_velocity])
+            velocities.append(velocity)
+            accelerations.append((velocity - velocity_before) / dt)
+        yaw_rate = math.remainder(output.torso_yaw - previous.torso_yaw, math.tau) / dt
+        return DynamicsTargets(
+            com=output.com_target,
+            com_velocity=np.array([*reference.com_velocity, height_rate]),
+            com_acceleration=np.array([*acceleration_xy, 0.0]),
+            left_sole=poses[0],
+            right_sole=poses[1],
+            torso_rotation=_yaw_rotation(output.torso_yaw),
+            posture=output.q_ref,
+            contact_weights=contact_loads(self.schedule, output.time, self.ramp_time),
+            left_sole_velocity=velocities[0],
+            right_sole_velocity=velocities[1],
+            left_sole_acceleration=accelerations[0],
+            right_sole_acceleration=accelerations[1],
+            torso_angular_velocity=np.array([0.0, 0.0, yaw_rate]),
+            posture_velocity=output.ik.v,
+        )
+
+    def step(self, state: EstimatedState | ComState | None = None) -> ControlOutput:
+        """One control tick (:meth:`WalkingController.step`) and its joint torques.
+
+        Raises:
+            ConfigurationError: ``state`` is not an EstimatedState: torque control acts on
+                the estimated configuration and velocity.
+        """
+        if not isinstance(state, EstimatedState):
+            raise ConfigurationError(
+                "A torque-controlled robot needs its estimated state each tick (an "
+                f"EstimatedState), got {type(state).__name__}."
+            )
+        previous = self.last_output
+        output = super().step(state)
+        assert previous is not None and previous.joint_torques is not None  # reset() set them
+        targets = self.targets(output, previous)
+        q, v = np.asarray(state.q), np.asarray(state.v)
+        if np.all(np.isfinite(q)) and np.all(np.isfinite(v)):
+            result = self.inverse_dynamics.solve(q, v, targets)
+            torques = result.torques
+        else:  # a faulty estimate: the torques of the last tick hold
+            result, torques = None, previous.joint_torques
+        if result is None or not result.success:
+            self.dynamics_failures += 1
+        self.last_output = dataclasses.replace(output, joint_torques=torques, dynamics=result)
+        return self.last_output
