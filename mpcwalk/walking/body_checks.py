@@ -23,6 +23,7 @@ import pinocchio as pin
 from mpcwalk.exceptions import MpcwalkError
 from mpcwalk.robot import Robot
 from mpcwalk.robot.footprint import SoleFootprint, foot_footprints
+from mpcwalk.robot.survey.upper_body import standing_torques as survey_standing_torques
 from mpcwalk.robot.urdf_repair import inertia_repairs
 from mpcwalk.walking.posture_checks import CheckResult
 
@@ -124,21 +125,10 @@ def check_soles_on_feet(robot: Robot) -> CheckResult:
 
 def standing_torques(robot: Robot) -> np.ndarray:
     """Joint torques [N m] that hold the nominal posture standing still on both feet, in
-    ``robot.joint_names`` order: gravity's (Pinocchio's RNEA) less the feet's contact
-    wrenches, split between the soles as the smallest wrenches that carry the base."""
-    model, data, q = robot.model, robot.model.createData(), robot.q0
-    gravity = pin.rnea(model, data, q, np.zeros(model.nv), np.zeros(model.nv))
-    pin.computeJointJacobians(model, data, q)
-    pin.updateFramePlacements(model, data)
-    jacobians = np.vstack(
-        [
-            pin.getFrameJacobian(model, data, model.getFrameId(frame), pin.LOCAL)
-            for frame in robot.foot_frames
-        ]
-    )  # (12, nv): the two soles' wrenches do jacobians.T @ wrenches
-    wrenches = np.linalg.lstsq(jacobians[:, :6].T, gravity[:6], rcond=None)[0]
-    torques = gravity - jacobians.T @ wrenches
-    return np.array([torques[model.idx_vs[model.getJointId(n)]] for n in robot.joint_names])
+    ``robot.joint_names`` order (:func:`~mpcwalk.robot.survey.upper_body.standing_torques`
+    at the sole frames: gravity's less the smallest sole wrenches that carry the base)."""
+    torques = survey_standing_torques(robot.model, robot.q0, robot.foot_frames)
+    return np.array([torques[name] for name in robot.joint_names])
 
 
 def check_servo_torques(robot: Robot) -> CheckResult:

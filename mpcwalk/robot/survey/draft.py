@@ -21,7 +21,7 @@ from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.base_orientation import reorient_urdf_root
 from mpcwalk.robot.joint_role_detection import detect_joint_roles
 from mpcwalk.robot.survey import rules
-from mpcwalk.robot.survey.legs import AXES, LegSurvey, find_legs
+from mpcwalk.robot.survey.legs import AXES, LegSurvey, body_of, find_legs
 from mpcwalk.robot.survey.parts import PresetDraft, Servo, Sole
 from mpcwalk.robot.survey.posture import Posture, solve_posture
 from mpcwalk.robot.survey.upper_body import joint_loads, standing_torques, torso_frame
@@ -138,9 +138,7 @@ def _half_stance(
 def _imu_link(model: pin.Model, legs: LegSurvey) -> tuple[str, str]:
     """The IMU's link and why: a body fixed to the base named like an IMU, else the base
     (where most humanoids carry it)."""
-    base = next(
-        str(f.name) for f in model.frames if f.parentJoint == 1 and f.type == pin.FrameType.BODY
-    )
+    base = body_of(model, 1)
     for frame in model.frames:
         if (
             frame.parentJoint == 1

@@ -96,7 +96,7 @@ def joint_axis(model: pin.Model, data: pin.Data, joint_id: int) -> np.ndarray:
     return data.oMi[joint_id].rotation @ angular
 
 
-def _body_of(model: pin.Model, joint_id: int) -> str:
+def body_of(model: pin.Model, joint_id: int) -> str:
     """Name of the body a joint moves (its first body frame)."""
     for frame in model.frames:
         if frame.parentJoint == joint_id and frame.type == pin.FrameType.BODY:
@@ -217,7 +217,7 @@ def _leg(model: pin.Model, data: pin.Data, leaf: int) -> Leg:
     )
     return Leg(
         joints=tuple(str(model.names[j]) for j in chain),
-        foot=_body_of(model, leaf),
+        foot=body_of(model, leaf),
         knee=str(model.names[knee]),
         hip_position=hip,
         foot_position=foot,
@@ -250,4 +250,4 @@ def _forward_from_knee(
     return -horizontal
 
 
-__all__ = ["AXES", "MIN_LEG_JOINTS", "Leg", "LegSurvey", "find_legs"]
+__all__ = ["AXES", "MIN_LEG_JOINTS", "Leg", "LegSurvey", "body_of", "find_legs", "joint_axis"]

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from mpcwalk.robot.survey.legs import AXES, LegSurvey
+from mpcwalk.robot.survey.legs import AXES, LegSurvey, body_of
 
 #: Largest angle between the torso frame's z axis and up [deg].
 UPRIGHT_TOLERANCE = 5.0
@@ -25,7 +25,7 @@ def torso_frame(model: pin.Model, q: np.ndarray, legs: LegSurvey) -> tuple[str, 
     """The torso's frame name and how it was chosen (a sentence for the preset)."""
     leg_joints = {model.getJointId(n) for n in (*legs.left.joints, *legs.right.joints)}
     upper = [j for j in range(2, model.njoints) if j not in leg_joints]
-    root_body = _body(model, 1)
+    root_body = body_of(model, 1)
     if not upper:
         return root_body, "the base (no joint outside the legs)"
     parents = {model.parents[j] for j in range(2, model.njoints)}
@@ -36,7 +36,7 @@ def torso_frame(model: pin.Model, q: np.ndarray, legs: LegSurvey) -> tuple[str, 
         common = chain if common is None else [j for j in common if j in chain]
     deepest = max(common or [1], key=lambda j: len(_ancestors(model, j)))
     # the body the upper body's chains leave from: the deepest common ancestor's body
-    name = _body(model, deepest)
+    name = body_of(model, deepest)
     data = model.createData()
     pin.framesForwardKinematics(model, data, q)
     up = AXES[legs.up]
@@ -60,14 +60,6 @@ def _ancestors(model: pin.Model, joint_id: int) -> list[int]:
         chain.append(joint_id)
         joint_id = model.parents[joint_id]
     return chain
-
-
-def _body(model: pin.Model, joint_id: int) -> str:
-    """Name of the first body the joint ``joint_id`` moves."""
-    for frame in model.frames:
-        if frame.parentJoint == joint_id and frame.type == pin.FrameType.BODY:
-            return str(frame.name)
-    return str(model.names[joint_id])
 
 
 def joint_loads(model: pin.Model, q: np.ndarray) -> dict[str, tuple[float, float]]:
