@@ -4,6 +4,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import mujoco
 import numpy as np
 
 from mpcwalk._checks import frozen_array
@@ -71,13 +72,14 @@ class WalkLog:
         estimated_contact: Its contacts of the left and right soles, (n, 2) bool.
         estimated_sole_positions: Its soles [m], (n, 2, 3).
         joint_positions: Measured joints [rad], (n, nj). joint_targets: Servo targets, (n, nj).
-        actuator_force: Servo torques [N m], (n, nu).
+        actuator_force: Actuator torques [N m] in ``joint_names`` order, (n, nj) (NaN for a
+            joint no actuator drives).
         ik_error: Largest CoM/sole position error of the IK [m], (n,).
         generator_failed: Generator reported a failed solve, (n,) bool.
         generator_tick, ik_tick, controller_tick, mujoco_step, estimator_tick: Wall times
             [s], (n,) (the estimator's: 0 on the ground truth).
         joint_names: Joint names (``robot.joint_names``).
-        torque_limit: Torque limit of each actuator [N m] (inf: none), (nu,).
+        torque_limit: Torque limit of each joint's actuator [N m] (inf: none), (nj,).
     """
 
     time: np.ndarray
@@ -217,6 +219,7 @@ class WalkLogRecorder:
 
     def __init__(self, robot: "Robot") -> None:
         self.robot = robot
+        self._actuator_of = _actuator_of_joints(robot)
         self.rows: dict[str, list] = {
             f.name: [] for f in fields(WalkLog) if f.name not in ("joint_names", "torque_limit")
         }
@@ -262,7 +265,10 @@ class WalkLogRecorder:
         rows["estimated_sole_positions"].append(estimate.sole_positions)
         rows["joint_positions"].append(m.joint_positions)
         rows["joint_targets"].append(output.joint_targets)
-        rows["actuator_force"].append(np.array(actuator_force))
+        forces = np.full(len(self._actuator_of), np.nan)
+        driven = self._actuator_of >= 0
+        forces[driven] = np.asarray(actuator_force)[self._actuator_of[driven]]
+        rows["actuator_force"].append(forces)
         rows["ik_error"].append(output.ik.task_errors.position_max)
         rows["generator_failed"].append(output.generator_failed)
         rows["generator_tick"].append(output.generator_tick)
@@ -274,17 +280,20 @@ class WalkLogRecorder:
     def freeze(self) -> WalkLog:
         """The log so far."""
         model = self.robot.mj_model
-        limit = np.where(
+        actuator_limit = np.where(
             model.actuator_forcelimited.astype(bool),
             np.abs(model.actuator_forcerange).max(axis=1),
             np.inf,
         )
-        nj, nu = len(self.robot.joint_names), model.nu
+        driven = self._actuator_of >= 0
+        limit = np.full(len(self._actuator_of), np.inf)
+        limit[driven] = actuator_limit[self._actuator_of[driven]]
+        nj = len(self.robot.joint_names)
         empty = {
             **_EMPTY_SHAPES,
             "joint_positions": (0, nj),
             "joint_targets": (0, nj),
-            "actuator_force": (0, nu),
+            "actuator_force": (0, nj),
         }
         arrays = {}
         # a tick appended in part (an interrupt inside append) is dropped from every series
@@ -298,3 +307,17 @@ class WalkLogRecorder:
         return WalkLog(
             **arrays, joint_names=tuple(self.robot.joint_names), torque_limit=frozen_array(limit)
         )
+
+
+def _actuator_of_joints(robot: "Robot") -> np.ndarray:
+    """Index of the actuator driving each of ``robot.joint_names`` (-1: none; the first one
+    when several do)."""
+    model = robot.mj_model
+    index_of = {name: i for i, name in enumerate(robot.joint_names)}
+    actuator_of = np.full(len(robot.joint_names), -1, dtype=int)
+    for actuator in reversed(range(model.nu)):
+        joint = int(model.actuator_trnid[actuator, 0])
+        name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, joint)
+        if name in index_of:
+            actuator_of[index_of[name]] = actuator
+    return actuator_of
