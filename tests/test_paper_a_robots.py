@@ -60,8 +60,10 @@ def _controller(robot: str, controller: str, vx: float):
     )
 
 
-def test_only_the_static_gait_gets_the_damped_ik():
+def test_only_the_static_gaits_get_the_damped_ik():
     assert _controller("g1", "paper-a", 0.015).ik.damping == STATIC_IK_DAMPING == 1e-4
+    # its QP form holds the CoM over the support too: undamped, g1 fell in its first step
+    assert _controller("g1", "static-qp", 0.015).ik.damping == STATIC_IK_DAMPING
     assert _controller("g1", "mpc", 0.1).ik.damping == 1e-6  # the IK's default, unchanged
 
 
