@@ -68,3 +68,23 @@ def bioloid() -> Robot:
 def atlas() -> Robot:
     """The large humanoid of paper A (``atlas-like``), loaded once per session."""
     return get_robot("atlas-like")
+
+
+def _plain(value: Any) -> Any:
+    """``value`` with numpy scalars and arrays as Python numbers and lists (a test report is
+    sent between the suite's worker processes, which cannot send numpy objects)."""
+    if isinstance(value, dict):
+        return {key: _plain(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(item) for item in value]
+    if hasattr(value, "tolist"):
+        return value.tolist()
+    return value
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    """Recorded test properties as plain Python values."""
+    outcome = yield
+    report = outcome.get_result()
+    report.user_properties = [(key, _plain(value)) for key, value in report.user_properties]
