@@ -34,7 +34,10 @@ from mpcwalk.terrain import Slope, Stairs, SteppingStones, Terrain, TerrainReach
 
 def test_the_full_matrix_and_its_quick_form():
     full, quick = load_matrix_config(), load_matrix_config(quick=True)
-    assert list(full.robots) == ["bioloid-like", "g1", "atlas-like"] and full.mode == "full"
+    robots = ["bioloid-like", "g1", "atlas-like", "talos", "romeo"]
+    assert list(full.robots) == robots and full.mode == "full"
+    assert full.robots["romeo"].controllers == ("paper-m", "mpc", "mpc-steps")
+    assert full.robots["g1"].command == full.robots["atlas-like"].command == (0.1, 0.0, 0.0)
     assert list(quick.robots) == ["bioloid-like"] and quick.mode == "quick"
     assert quick.robots["bioloid-like"].controllers == ("paper-m-open", "mpc")
     worlds = robot_worlds(full, 0)

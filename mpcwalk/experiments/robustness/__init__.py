@@ -14,4 +14,9 @@ robot, in worlds that are not the model; its terrain factors alone
   :mod:`~mpcwalk.experiments.robustness.terrain_report` and
   :mod:`~mpcwalk.experiments.robustness.plots`: the report and its heat maps;
 - :mod:`~mpcwalk.experiments.robustness.experiment`: the experiments of the registry.
+
+Each robot's nominal command is one where paper M's engine (``paper-m``) walks unperturbed,
+as the paper reports it walking (0.1 m/s on its small humanoid), so that its rows are a
+reference: 0.1 m/s on ``bioloid-like``, ``g1`` and ``atlas-like`` (``paper-m`` falls on the
+last two at 0.15 and 0.2 m/s), 0.15 m/s on ``talos`` and ``romeo``.
 """
