@@ -187,3 +187,24 @@ def test_wrench_cone_rows():
     assert np.any(C @ outside > d)
     with pytest.raises(ConfigurationError, match="friction"):
         wrench_cone((0.2, 0.1), 0.0)
+
+
+def test_posture_gain_within_a_delay_keeps_the_phase_margin():
+    from mpcwalk.ik.dynamics_targets import PD_DELAY_BOUND, DynamicsGains
+
+    gains = DynamicsGains()
+    delay = 0.0306  # 10 ms latency, 10 ms period, the 15 Hz low-pass's 10.6 ms
+    capped = gains.within_delay(delay)
+    kp, kd = DynamicsGains.pd(capped.posture)
+    w = np.logspace(-1, 3, 200001)  # crossover of L(jw) = (kd jw + kp) e^(-jw d) / (jw)^2
+    loop = (kd * 1j * w + kp) * np.exp(-1j * w * delay) / (1j * w) ** 2
+    crossover = np.argmin(np.abs(np.abs(loop) - 1.0))
+    margin = 180.0 + np.degrees(np.angle(loop[crossover]))
+    assert margin == pytest.approx(60.0, abs=0.1)  # measured 60.0 deg
+    assert capped.posture == pytest.approx(PD_DELAY_BOUND / delay)  # 4.53 rad/s < 15 rad/s
+    assert capped.posture < gains.posture
+    others = ("com", "swing_foot", "torso", "momentum", "contact")
+    assert all(getattr(capped, name) == getattr(gains, name) for name in others)
+    assert gains.within_delay(1e-3) == gains  # a fresh state leaves the defaults
+    with pytest.raises(ConfigurationError, match="delay"):
+        gains.within_delay(0.0)
