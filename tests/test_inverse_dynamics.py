@@ -189,22 +189,38 @@ def test_wrench_cone_rows():
         wrench_cone((0.2, 0.1), 0.0)
 
 
-def test_posture_gain_within_a_delay_keeps_the_phase_margin():
-    from mpcwalk.ik.dynamics_targets import PD_DELAY_BOUND, DynamicsGains
+def _swept_margin(omega, beta, delay):
+    """Phase margin [deg] of (2 omega s + omega^2) e^(-s delay) / (s (s + beta)), by a sweep."""
+    w = np.logspace(-1, 3, 400001)
+    s = 1j * w
+    loop = (2.0 * omega * s + omega**2) * np.exp(-s * delay) / (s * (s + beta))
+    crossover = np.argmax(np.abs(loop) < 1.0)
+    return 180.0 + np.degrees(np.unwrap(np.angle(loop))[crossover])
 
-    gains = DynamicsGains()
+
+def test_posture_frequency_keeps_a_60_degree_margin_on_a_late_state():
+    from mpcwalk.ik.delay_margin import delay_limited_frequency
+
     delay = 0.0306  # 10 ms latency, 10 ms period, the 15 Hz low-pass's 10.6 ms
-    capped = gains.within_delay(delay)
-    kp, kd = DynamicsGains.pd(capped.posture)
-    w = np.logspace(-1, 3, 200001)  # crossover of L(jw) = (kd jw + kp) e^(-jw d) / (jw)^2
-    loop = (kd * 1j * w + kp) * np.exp(-1j * w * delay) / (1j * w) ** 2
-    crossover = np.argmin(np.abs(np.abs(loop) - 1.0))
-    margin = 180.0 + np.degrees(np.angle(loop[crossover]))
-    assert margin == pytest.approx(60.0, abs=0.1)  # measured 60.0 deg
-    assert capped.posture == pytest.approx(PD_DELAY_BOUND / delay)  # 4.53 rad/s < 15 rad/s
-    assert capped.posture < gains.posture
-    others = ("com", "swing_foot", "torso", "momentum", "contact")
-    assert all(getattr(capped, name) == getattr(gains, name) for name in others)
-    assert gains.within_delay(1e-3) == gains  # a fresh state leaves the defaults
+    rates = np.array([0.0, 0.87, 16.0, 40.0])  # g1, atlas-like, bioloid-like's servos (1/s)
+    omega = delay_limited_frequency(15.0, rates, delay)
+    assert omega[0] == pytest.approx(4.53, abs=0.01)  # no damping: 0.139 / delay
+    assert omega[2] == pytest.approx(14.73, abs=0.01)  # a damped servo keeps nearly 15
+    assert omega[3] == 15.0  # the bound
+    for w, beta in zip(omega[:3], rates[:3]):
+        assert _swept_margin(w, beta, delay) == pytest.approx(60.0, abs=0.05)
+    assert _swept_margin(15.0, 0.0, delay) < 25.0  # the default on a late state: 22 deg
+    assert np.all(delay_limited_frequency(15.0, np.zeros(2), 0.001) == 15.0)
     with pytest.raises(ConfigurationError, match="delay"):
-        gains.within_delay(0.0)
+        delay_limited_frequency(15.0, rates, 0.0)
+
+
+def test_inverse_dynamics_caps_the_posture_of_a_late_state():
+    g1 = get_robot("g1")
+    assert np.all(InverseDynamicsQP(g1).posture_frequencies == 15.0)
+    late = InverseDynamicsQP(g1, state_delay=0.0306).posture_frequencies
+    assert np.allclose(late, 4.53, atol=0.01)  # g1's joints have no damping
+    # the small humanoid's servos are damped (b / M_jj from 3.7 /s): its least damped joint
+    # sets one frequency for all
+    servo = InverseDynamicsQP(get_robot("bioloid-like"), state_delay=0.0306)
+    assert np.allclose(servo.posture_frequencies, 8.18, atol=0.01)

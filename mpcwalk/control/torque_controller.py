@@ -33,7 +33,7 @@ from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps import Side
 from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.ik.dynamics_targets import DynamicsGains, DynamicsTargets
+from mpcwalk.ik.dynamics_targets import DynamicsTargets
 from mpcwalk.ik.inverse_dynamics import InverseDynamicsQP
 from mpcwalk.models.com_state import ComState
 
@@ -105,8 +105,7 @@ class TorqueController(WalkingController):
         generator: Pattern generator (as :class:`WalkingController`).
         schedule: Footsteps and contact phases.
         inverse_dynamics: The inverse-dynamics QP (default: ``InverseDynamicsQP(robot)``
-            with the default gains capped for ``state_delay``,
-            :meth:`~mpcwalk.ik.dynamics_targets.DynamicsGains.within_delay`).
+            with its posture gains capped for ``state_delay``).
         ramp_time: Duration [s] of the load ramp of a sole at touch-down and lift-off, >= 0.
         state_delay: Age [s] of the estimated state the torques act on
             (:func:`state_delay`; default: one control period, the simulator's exact state).
@@ -133,8 +132,7 @@ class TorqueController(WalkingController):
         self.ramp_time = float(ramp_time)
         self.state_delay = self.control_period if state_delay is None else state_delay
         if inverse_dynamics is None:
-            gains = DynamicsGains().within_delay(self.state_delay)
-            inverse_dynamics = InverseDynamicsQP(robot, gains=gains)
+            inverse_dynamics = InverseDynamicsQP(robot, state_delay=self.state_delay)
         self.inverse_dynamics = inverse_dynamics
         self.dynamics_failures = 0
         """Ticks whose inverse dynamics failed (the previous torques were held)."""

@@ -7,7 +7,8 @@ natural frequencies: ``kp = omega^2``, ``kd = 2 zeta omega``.
 """
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -114,38 +115,10 @@ class DynamicsGains:
                 raise ConfigurationError(f"gain {name} must be a number >= 0, got {value!r}.")
 
     @staticmethod
-    def pd(omega: float) -> tuple[float, float]:
-        """``(kp, kd)`` of natural frequency ``omega`` [rad/s], critically damped."""
+    def pd(omega: Any) -> tuple[Any, Any]:
+        """``(kp, kd)`` of natural frequency ``omega`` [rad/s] (a number or an array),
+        critically damped."""
         return omega * omega, 2.0 * omega
-
-    def within_delay(self, delay: float) -> "DynamicsGains":
-        """These gains with the posture's natural frequency capped so that its loop keeps
-        a 60 degree phase margin when the state it acts on is ``delay`` [s] old.
-
-        The posture task is a double integrator per joint (the inverse dynamics realises the
-        desired acceleration) closed by a critically damped PD of natural frequency
-        ``omega``: its open loop crosses over at ``x omega`` with ``x = sqrt(2 + sqrt(5))``
-        and a margin of ``atan(2 x)`` (76 deg) that a delay eats at ``x omega delay`` rad, so
-        ``omega <= PD_DELAY_BOUND / delay``. It alone holds the joints no other task moves
-        (arms, neck, waist), light joints that chatter when it rings. The other tasks keep
-        their gains: the CoM's must outrun the LIPM's divergence and the swing sole's reach
-        its landing within the swing, whatever the delay costs their margins.
-
-        Raises:
-            ConfigurationError: A delay that is not a positive number of seconds.
-        """
-        if not (isinstance(delay, (int, float)) and math.isfinite(delay) and delay > 0.0):
-            raise ConfigurationError(
-                f"delay must be a positive number of seconds (the age of the estimated "
-                f"state the torques act on), got {delay!r}."
-            )
-        return replace(self, posture=min(self.posture, PD_DELAY_BOUND / delay))
-
-
-_CROSSOVER = math.sqrt(2.0 + math.sqrt(5.0))  # |L(j x omega)| = 1 of the critically damped PD
-_MARGIN = math.radians(60.0)
-#: ``omega delay`` of a critically damped PD on a double integrator with a 60 deg margin.
-PD_DELAY_BOUND = (math.atan(2.0 * _CROSSOVER) - _MARGIN) / _CROSSOVER
 
 
 @dataclass(frozen=True)

@@ -34,6 +34,7 @@ import pinocchio as pin
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.ik.contact_wrench import CONE_ROWS, cone_bounds, wrench_cone
+from mpcwalk.ik.delay_margin import delay_limited_frequency
 from mpcwalk.ik.dynamics_program import DynamicsProgram
 from mpcwalk.ik.dynamics_targets import (
     DynamicsGains,
@@ -77,6 +78,10 @@ class InverseDynamicsQP:
         torque_limit: Joint torque limits [N m], one per joint or one for all (default:
             :func:`torque_limits`).
         torso_frame: Frame whose orientation is a task (default: the robot's).
+        state_delay: Age [s] of the state the torques act on: the posture frequency is then
+            capped to keep a 60 deg phase margin with the damping of the least damped joint
+            (:func:`~mpcwalk.ik.delay_margin.delay_limited_frequency`: the joints shake
+            one another through the body); None: ``gains.posture``.
 
     Raises:
         SolverNotFound: ``solver`` is not installed.
@@ -97,6 +102,7 @@ class InverseDynamicsQP:
         max_normal_force: float | None = None,
         torque_limit: float | np.ndarray | None = None,
         torso_frame: str | None = None,
+        state_delay: float | None = None,
     ) -> None:
         model = robot.model
         self.robot, self.model, self.data = robot, model, model.createData()
@@ -118,6 +124,13 @@ class InverseDynamicsQP:
         self.sole_ids = [robot.frame_id(frame) for frame in robot.foot_frames]
         self.torso_frame = torso_frame or robot.torso_frame
         self.torso_id = robot.frame_id(self.torso_frame)
+        omega = np.full(self.nj, float(gains.posture))
+        if state_delay is not None and gains.posture > 0.0:  # damping rate b / M_jj at q0
+            inertia = np.diag(pin.crba(model, self.data, robot.q0))[6:]
+            rate = float(np.min(np.asarray(model.damping[6:], dtype=float) / inertia))
+            omega[:] = delay_limited_frequency(gains.posture, np.array([rate]), state_delay)
+        self.posture_frequencies = omega
+        """Natural frequency [rad/s] of each joint's posture PD, shape (nv - 6,)."""
         self.solver_name = solver
         self.solver = make_solver(solver, **dict(solver_settings or {}))
         self._programs: dict[tuple[bool, bool], DynamicsProgram] = {}
@@ -235,7 +248,7 @@ class InverseDynamicsQP:
 
     def _posture(self, q, v, targets: DynamicsTargets) -> np.ndarray:
         """Desired joint accelerations of the posture task, shape (nj,)."""
-        kp, kd = self.gains.pd(self.gains.posture)
+        kp, kd = self.gains.pd(self.posture_frequencies)
         error = pin.difference(self.model, q, targets.posture)[6:]
         v_ref = targets.posture_velocity
         a_ref = targets.posture_acceleration

@@ -60,7 +60,7 @@ class DaqpSolver(QPSolver):
         self._versions = (-1, -1)
 
     def check(self, qp: QuadraticProgram) -> None:
-        if qp.formulation == "sparse" or qp.m_eq:
+        if qp.formulation == "sparse" or (qp.m_eq and not hasattr(qp, "dense_rows")):
             raise ConfigurationError(
                 f"Solver '{self.name}' needs a positive definite cost matrix and inequality "
                 "rows only, but the sparse formulation's P is only semidefinite (states are "
@@ -82,6 +82,8 @@ class DaqpSolver(QPSolver):
     def solve(self, qp: QuadraticProgram, *, shift: float = 0.0) -> QPResult:
         self.check(qp)
         qp.require_update()
+        if qp.m_eq:
+            return self._solve_rows(qp)
         start = time.perf_counter()
         P, q, G, h = qp.dense_arrays()  # DAQP reads bounds >= 1e30 (and inf) as none
         if not h.flags.writeable:  # DAQP takes writable buffers only
@@ -131,5 +133,37 @@ class DaqpSolver(QPSolver):
             primal_residual=primal,
             dual_residual=dual,
             duality_gap=gap,
+            solver=self.name,
+        )
+
+    def _solve_rows(self, qp) -> QPResult:
+        """A dense QP with equality rows (``dense_rows()``: ``lower <= A x <= upper``, the
+        ``m_eq`` equalities first), its values new each tick (the inverse dynamics'): DAQP
+        holds the equalities in its working set for good (sense 5: active, immutable)."""
+        start = time.perf_counter()
+        P, q, A, lower, upper = qp.dense_rows()
+        m = len(upper)
+        if len(self._sense) != m:
+            self._sense = np.zeros(m, dtype=np.int32)
+            self._sense[: qp.m_eq] = 5
+        self._model = None
+        x, _, exitflag, info = daqp.solve(P, q, A, upper, lower, self._sense, **self.settings)
+        elapsed = time.perf_counter() - start
+        if exitflag <= 0:
+            return failure(self.name, f"exitflag {exitflag}", elapsed)
+        x = np.asarray(x, dtype=float)
+        z = np.asarray(info["lam"], dtype=float)
+        Ax = A @ x
+        primal = float(max(0.0, np.max(Ax - upper), np.max(lower - Ax)))
+        return QPResult(
+            x=x,
+            y=z,
+            success=True,
+            status="found",
+            solve_time=elapsed,
+            iterations=int(info["iterations"]),
+            primal_residual=primal,
+            dual_residual=float(np.max(np.abs(P @ x + q + A.T @ z))),
+            duality_gap=None,
             solver=self.name,
         )
