@@ -93,7 +93,7 @@ class InverseDynamicsQP:
         self,
         robot,
         *,
-        solver: str = "daqp",
+        solver: str = "daqp-direct",
         solver_settings: Mapping[str, Any] | None = None,
         weights: DynamicsWeights = DynamicsWeights(),
         gains: DynamicsGains = DynamicsGains(),
@@ -134,6 +134,8 @@ class InverseDynamicsQP:
         self.solver_name = solver
         self.solver = make_solver(solver, **dict(solver_settings or {}))
         self._programs: dict[tuple[bool, bool], DynamicsProgram] = {}
+        self._lower = np.tril_indices(self.nv, -1)
+        self._torque_rows: dict[int, np.ndarray] = {}  # tau's rows, per program size
         self._contacts: tuple[bool, bool] | None = None
         self._torques = np.zeros(self.nj)
         self.program((True, True))  # the back-end's check, now
@@ -183,8 +185,8 @@ class InverseDynamicsQP:
         effects; frame Jacobians, classical accelerations at ``a = 0`` and the centroidal
         map and its time variation are then read from the data."""
         model, data = self.model, self.data
-        M = pin.crba(model, data, q)
-        M = np.triu(M) + np.triu(M, 1).T
+        M = pin.crba(model, data, q).copy()  # its upper triangle: mirror it
+        M[self._lower] = M.T[self._lower]
         h = pin.nonLinearEffects(model, data, q, v).copy()
         pin.computeCentroidalMapTimeVariation(model, data, q, v)
         pin.forwardKinematics(model, data, q, v, np.zeros(self.nv))
@@ -274,10 +276,11 @@ class InverseDynamicsQP:
                 P[:nv, :nv] += w * J.T @ J
                 c[:nv] -= w * J.T @ r
         w = self.weights.posture
-        P[6:nv, 6:nv] += w * np.eye(nj)
+        diagonal = P.reshape(-1)[:: n + 1]  # a view of P's diagonal
+        diagonal[6:nv] += w
         c[6:nv] -= w * self._posture(q, v, targets)
-        P[:nv, :nv] += self.weights.acceleration * np.eye(nv)
-        P[nv:, nv:] += self.weights.force / self.weight**2 * np.eye(n - nv)
+        diagonal[:nv] += self.weights.acceleration
+        diagonal[nv:] += self.weights.force / self.weight**2
         loads = [w for w, on in zip(targets.contact_weights, contacts) if on]
         for k, load in enumerate(loads):  # towards the share of the weight of its load
             share = load / sum(loads) * self.weight
@@ -306,7 +309,9 @@ class InverseDynamicsQP:
         limited = self._limited
         if len(limited):  # tau = M_j a + h_j - sum_i J_i,j^T f_i
             start = CONE_ROWS * k
-            T = np.zeros((nj, n))
+            T = self._torque_rows.get(n)
+            if T is None:
+                T = self._torque_rows[n] = np.zeros((nj, n))
             T[:, :nv] = M[6:]
             for _, k_i, J in jacobians:
                 T[:, nv + 6 * k_i : nv + 6 * k_i + 6] = -J[:, 6:].T
