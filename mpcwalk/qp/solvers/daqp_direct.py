@@ -7,6 +7,8 @@ walking QP: ``P`` never changes, ``A`` only when the polygons over the horizon c
 each tick then only pushes the vectors: no refactorisation, and the solve starts from the
 active set of the previous tick (hot start). QPs rebuilt every tick (the footstep-adaptive
 MPC's) are set up anew each tick, with the shifted previous solution as the primal start.
+A dense QP with equality rows that offers them (``dense_rows()``: the inverse dynamics') is
+solved in one call, the equalities held in the working set for good (DAQP's sense 5).
 """
 
 import time
@@ -25,7 +27,8 @@ _INFINITY = 1e30  # DAQP's "no bound"
 class DaqpSolver(QPSolver):
     """DAQP through its workspace (``daqp.Model``), hot-started.
 
-    Only the dense formulation (a positive definite ``P``, inequality rows only) applies.
+    Only the dense formulation (a positive definite ``P``; inequality rows only, or
+    equalities given by the program's ``dense_rows()``) applies.
 
     Args:
         settings: DAQP settings (``primal_tol``, ``dual_tol``, ``iter_limit``...), given to
