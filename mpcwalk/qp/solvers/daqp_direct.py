@@ -57,6 +57,8 @@ class DaqpSolver(QPSolver):
         self._previous: np.ndarray | None = None
         self._lower = np.zeros(0)
         self._sense = np.zeros(0, dtype=np.int32)
+        self._row_sense = np.zeros(0, dtype=np.int32)  # the rows of dense_rows(): m_eq first
+        self._row_shape = (0, 0)
 
     def reset(self) -> None:
         self._model = self._qp = self._previous = None
@@ -126,6 +128,11 @@ class DaqpSolver(QPSolver):
         primal = float(max(0.0, np.max(Gx - h))) if len(h) else 0.0
         dual = float(np.max(np.abs(Px + q + G.T @ z)))
         gap = float(abs(x @ Px + q @ x + h @ z))
+        return self._found(x, z, elapsed, info, (primal, dual, gap))
+
+    def _found(self, x, z, elapsed: float, info, residuals) -> QPResult:
+        """The result of a solve DAQP found, with its (primal, dual, gap) residuals."""
+        primal, dual, gap = residuals
         return QPResult(
             x=x,
             y=z,
@@ -145,12 +152,13 @@ class DaqpSolver(QPSolver):
         holds the equalities in its working set for good (sense 5: active, immutable)."""
         start = time.perf_counter()
         P, q, A, lower, upper = qp.dense_rows()
-        m = len(upper)
-        if len(self._sense) != m:
-            self._sense = np.zeros(m, dtype=np.int32)
-            self._sense[: qp.m_eq] = 5
+        shape = (len(upper), int(qp.m_eq))
+        if self._row_sense.shape != (shape[0],) or self._row_shape != shape:
+            self._row_sense = np.zeros(shape[0], dtype=np.int32)
+            self._row_sense[: shape[1]] = 5
+            self._row_shape = shape
         self._model = None
-        x, _, exitflag, info = daqp.solve(P, q, A, upper, lower, self._sense, **self.settings)
+        x, _, exitflag, info = daqp.solve(P, q, A, upper, lower, self._row_sense, **self.settings)
         elapsed = time.perf_counter() - start
         if exitflag <= 0:
             return failure(self.name, f"exitflag {exitflag}", elapsed)
@@ -158,15 +166,5 @@ class DaqpSolver(QPSolver):
         z = np.asarray(info["lam"], dtype=float)
         Ax = A @ x
         primal = float(max(0.0, np.max(Ax - upper), np.max(lower - Ax)))
-        return QPResult(
-            x=x,
-            y=z,
-            success=True,
-            status="found",
-            solve_time=elapsed,
-            iterations=int(info["iterations"]),
-            primal_residual=primal,
-            dual_residual=float(np.max(np.abs(P @ x + q + A.T @ z))),
-            duality_gap=None,
-            solver=self.name,
-        )
+        dual = float(np.max(np.abs(P @ x + q + A.T @ z)))
+        return self._found(x, z, elapsed, info, (primal, dual, None))
