@@ -86,7 +86,7 @@ def build_controller(
     controller options over them. A generator that holds the CoM above the support foot gets
     the IK damped by :data:`STATIC_IK_DAMPING`. A torque-controlled robot (``actuation``
     ``"torque"``) gets a :class:`~mpcwalk.control.torque_controller.TorqueController`
-    whose task gains are capped for ``state_delay`` [s], the age of its estimated state
+    whose posture gain is capped for ``state_delay`` [s], the age of its estimated state
     (:func:`~mpcwalk.control.torque_controller.state_delay`; None: one control period).
     """
     check_controller(spec)
