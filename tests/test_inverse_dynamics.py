@@ -153,7 +153,7 @@ def test_force_ramp_keeps_the_torques_continuous_at_lift_off():
     assert ramped < 0.5 * abrupt
 
 
-@pytest.mark.parametrize("name", ["proxqp", "quadprog", "osqp-direct", "piqp"])
+@pytest.mark.parametrize("name", ["proxqp", "quadprog", "osqp-direct", "piqp", "daqp-direct"])
 def test_backends_of_the_registry_agree(name):
     robot = get_robot("bioloid-like")
     q, v, _ = _random_state(robot, 3)
@@ -170,8 +170,7 @@ def test_backends_that_cannot_take_the_qp_are_refused():
     robot = get_robot("bioloid-like")
     with pytest.raises(ConfigurationError, match="inequality"):
         InverseDynamicsQP(robot, solver="kkt")
-    with pytest.raises(ConfigurationError, match="inequality rows only"):
-        InverseDynamicsQP(robot, solver="daqp-direct")
+    assert InverseDynamicsQP(robot).solver_name == "daqp-direct"  # takes the equalities
     with pytest.raises(ConfigurationError, match="contact_weights"):
         _targets(robot, robot.q0, contact_weights=(1.5, 0.0))
 
@@ -187,3 +186,40 @@ def test_wrench_cone_rows():
     assert np.any(C @ outside > d)
     with pytest.raises(ConfigurationError, match="friction"):
         wrench_cone((0.2, 0.1), 0.0)
+
+
+def _swept_margin(omega, beta, delay):
+    """Phase margin [deg] of (2 omega s + omega^2) e^(-s delay) / (s (s + beta)), by a sweep."""
+    w = np.logspace(-1, 3, 400001)
+    s = 1j * w
+    loop = (2.0 * omega * s + omega**2) * np.exp(-s * delay) / (s * (s + beta))
+    crossover = np.argmax(np.abs(loop) < 1.0)
+    return 180.0 + np.degrees(np.unwrap(np.angle(loop))[crossover])
+
+
+def test_posture_frequency_keeps_a_60_degree_margin_on_a_late_state():
+    from mpcwalk.ik.delay_margin import delay_limited_frequency
+
+    delay = 0.0306  # 10 ms latency, 10 ms period, the 15 Hz low-pass's 10.6 ms
+    rates = np.array([0.0, 0.87, 16.0, 40.0])  # g1, atlas-like, bioloid-like's servos (1/s)
+    omega = delay_limited_frequency(15.0, rates, delay)
+    assert omega[0] == pytest.approx(4.53, abs=0.01)  # no damping: 0.139 / delay
+    assert omega[2] == pytest.approx(14.73, abs=0.01)  # a damped servo keeps nearly 15
+    assert omega[3] == 15.0  # the bound
+    for w, beta in zip(omega[:3], rates[:3]):
+        assert _swept_margin(w, beta, delay) == pytest.approx(60.0, abs=0.05)
+    assert _swept_margin(15.0, 0.0, delay) < 25.0  # the default on a late state: 22 deg
+    assert np.all(delay_limited_frequency(15.0, np.zeros(2), 0.001) == 15.0)
+    with pytest.raises(ConfigurationError, match="delay"):
+        delay_limited_frequency(15.0, rates, 0.0)
+
+
+def test_inverse_dynamics_caps_the_posture_of_a_late_state():
+    g1 = get_robot("g1")
+    assert np.all(InverseDynamicsQP(g1).posture_frequencies == 15.0)
+    late = InverseDynamicsQP(g1, state_delay=0.0306).posture_frequencies
+    assert np.allclose(late, 4.53, atol=0.01)  # g1's joints have no damping
+    # the small humanoid's servos are damped (b / M_jj from 3.7 /s): its least damped joint
+    # sets one frequency for all
+    servo = InverseDynamicsQP(get_robot("bioloid-like"), state_delay=0.0306)
+    assert np.allclose(servo.posture_frequencies, 8.18, atol=0.01)

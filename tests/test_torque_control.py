@@ -74,3 +74,47 @@ def test_small_humanoid_stands_and_walks_four_steps_on_motors():
     weight = 9.81 * get_robot("bioloid-like").total_mass
     vertical = log.foot_wrenches[standing][:, :, 2].sum(axis=1)
     assert np.median(vertical) == pytest.approx(weight, rel=0.05)
+
+
+def test_state_delay_adds_latency_period_and_the_velocity_filter_lag():
+    from mpcwalk.control.torque_controller import state_delay
+
+    assert state_delay(0.01) == pytest.approx(0.01)  # the simulator's exact state
+    delay = state_delay(0.01, latency=0.01, velocity_cutoff=15.0)
+    assert delay == pytest.approx(0.02 + 1.0 / (2.0 * np.pi * 15.0))  # 30.6 ms
+    with pytest.raises(ConfigurationError, match="velocity_cutoff"):
+        state_delay(0.01, velocity_cutoff=0.0)
+
+
+def test_motors_start_with_the_readings_of_a_robot_at_rest():
+    # Held by its static torques on contacts that carry no load yet, atlas-like's base drops
+    # and pitches in MuJoCo's first instant: its accelerometer read (0.64, 0, 9.14) m/s^2,
+    # gravity's norm within 7 %, and the estimator took a 3.9 deg pitch from it.
+    from mpcwalk.estimation.estimator import Estimator
+
+    robot = get_robot("atlas-like")
+    simulation = Simulation(robot, actuation="torque", sensors=None)
+    readings = simulation.reset(robot.q0).oracle.sensors  # exact readings
+    assert np.allclose(readings.imu.gyro, 0.0)
+    # the IMU's vertical in its own frame: gravity's specific force
+    imu = simulation.data.site_xmat[simulation.ground_truth._imu_site].reshape(3, 3)
+    assert np.allclose(readings.imu.accelerometer, imu.T @ [0.0, 0.0, 9.81], atol=1e-9)
+    estimate = Estimator(robot, control_period=0.01).reset(readings, robot.q0)
+    assert abs(estimate.pitch) < np.radians(0.01) and abs(estimate.roll) < np.radians(0.01)
+    # position servos: the instantaneous readings, as before (no tilt taken from them)
+    servo = Simulation(robot, sensors=None).reset(robot.q0).oracle.sensors
+    assert np.linalg.norm(servo.imu.accelerometer) < 5.0  # measured 2.6 m/s^2
+
+
+@pytest.mark.slow
+def test_g1_walks_on_motors_without_spinning_its_soles():
+    # With the posture task at 15 rad/s on a state 31 ms old, g1's joints chattered: in
+    # these four steps a loaded sole spun 94 deg on the ground, the base yawed 12.9 deg, a
+    # step was missed and the motors saturated on 23 % of the ticks (20 steps: a fall at
+    # 11.2 s, 100 deg of yaw).
+    result = walk("g1", "mpc", command=(0.1, 0.0, 0.0), nb_steps=4, actuation="torque")
+    m, log = result.metrics, result.log
+    assert not m.fell and m.steps_completed == m.steps_planned == 5
+    assert np.degrees(np.abs(log.base_rpy[:, 2])).max() < 4.0  # measured 1.7 deg
+    assert np.degrees(np.abs(log.sole_yaws)).max() < 4.0  # measured 2.3 deg
+    assert m.torque_saturation_share < 0.1  # measured 0.054

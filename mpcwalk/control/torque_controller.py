@@ -64,6 +64,33 @@ def contact_loads(schedule: ContactSchedule, t: float, ramp_time: float) -> tupl
     return loads[0], loads[1]
 
 
+def state_delay(
+    control_period: float, *, latency: float = 0.0, velocity_cutoff: float | None = None
+) -> float:
+    """Age [s] of the state the torques act on, on average over the tick: the sensors'
+    ``latency`` [s], the control period (half for the zero-order hold of the torques, half
+    for the finite difference of the encoders) and the lag ``1 / (2 pi f_c)`` of the joint
+    velocities' first-order low-pass of cut-off ``velocity_cutoff`` [Hz] (None: the
+    simulator's exact velocities).
+
+    Raises:
+        ConfigurationError: A non-positive period or cut-off, or a negative latency.
+    """
+    if not (math.isfinite(control_period) and control_period > 0.0):
+        raise ConfigurationError(f"control_period must be > 0 [s], got {control_period!r}.")
+    if not (math.isfinite(latency) and latency >= 0.0):
+        raise ConfigurationError(f"latency must be >= 0 [s], got {latency!r}.")
+    delay = float(latency) + float(control_period)
+    if velocity_cutoff is not None:
+        if not (math.isfinite(velocity_cutoff) and velocity_cutoff > 0.0):
+            raise ConfigurationError(
+                f"velocity_cutoff must be > 0 [Hz] (None: exact velocities), got "
+                f"{velocity_cutoff!r}."
+            )
+        delay += 1.0 / (2.0 * math.pi * velocity_cutoff)
+    return delay
+
+
 def _yaw_rotation(yaw: float) -> np.ndarray:
     c, s = math.cos(yaw), math.sin(yaw)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
@@ -77,8 +104,11 @@ class TorqueController(WalkingController):
         robot: The robot.
         generator: Pattern generator (as :class:`WalkingController`).
         schedule: Footsteps and contact phases.
-        inverse_dynamics: The inverse-dynamics QP (default: ``InverseDynamicsQP(robot)``).
+        inverse_dynamics: The inverse-dynamics QP (default: ``InverseDynamicsQP(robot)``
+            with its posture gains capped for ``state_delay``).
         ramp_time: Duration [s] of the load ramp of a sole at touch-down and lift-off, >= 0.
+        state_delay: Age [s] of the estimated state the torques act on
+            (:func:`state_delay`; default: one control period, the simulator's exact state).
         options: The other options of :class:`WalkingController`.
 
     Raises:
@@ -93,15 +123,17 @@ class TorqueController(WalkingController):
         *,
         inverse_dynamics: InverseDynamicsQP | None = None,
         ramp_time: float = 0.04,
+        state_delay: float | None = None,
         **options: Any,
     ) -> None:
         super().__init__(robot, generator, schedule, **options)
         if not (math.isfinite(ramp_time) and ramp_time >= 0.0):
             raise ConfigurationError(f"ramp_time must be >= 0 [s], got {ramp_time!r}.")
         self.ramp_time = float(ramp_time)
-        self.inverse_dynamics = (
-            InverseDynamicsQP(robot) if inverse_dynamics is None else inverse_dynamics
-        )
+        self.state_delay = self.control_period if state_delay is None else state_delay
+        if inverse_dynamics is None:
+            inverse_dynamics = InverseDynamicsQP(robot, state_delay=self.state_delay)
+        self.inverse_dynamics = inverse_dynamics
         self.dynamics_failures = 0
         """Ticks whose inverse dynamics failed (the previous torques were held)."""
 

@@ -102,6 +102,11 @@ class DynamicsProgram:
         back-end reading this form is refused by its own check when ``m_eq > 0``)."""
         return self.P_dense, self.q, self.A_dense[self.m_eq :], self.u[self.m_eq :].copy()
 
+    def dense_rows(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(P, q, A, lower, upper)`` of ``lower <= A x <= upper``, the ``m_eq``
+        equalities first (DAQP's form; views, not copies)."""
+        return self.P_dense, self.q, self.A_dense, self.l, self.u
+
     # ------------------------------------------------------------------ OSQP form
     @property
     def P_data(self) -> np.ndarray:

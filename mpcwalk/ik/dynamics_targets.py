@@ -8,6 +8,7 @@ natural frequencies: ``kp = omega^2``, ``kd = 2 zeta omega``.
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -114,8 +115,9 @@ class DynamicsGains:
                 raise ConfigurationError(f"gain {name} must be a number >= 0, got {value!r}.")
 
     @staticmethod
-    def pd(omega: float) -> tuple[float, float]:
-        """``(kp, kd)`` of natural frequency ``omega`` [rad/s], critically damped."""
+    def pd(omega: Any) -> tuple[Any, Any]:
+        """``(kp, kd)`` of natural frequency ``omega`` [rad/s] (a number or an array),
+        critically damped."""
         return omega * omega, 2.0 * omega
 
 

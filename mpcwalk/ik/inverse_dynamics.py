@@ -34,6 +34,7 @@ import pinocchio as pin
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.ik.contact_wrench import CONE_ROWS, cone_bounds, wrench_cone
+from mpcwalk.ik.delay_margin import delay_limited_frequency
 from mpcwalk.ik.dynamics_program import DynamicsProgram
 from mpcwalk.ik.dynamics_targets import (
     DynamicsGains,
@@ -77,6 +78,10 @@ class InverseDynamicsQP:
         torque_limit: Joint torque limits [N m], one per joint or one for all (default:
             :func:`torque_limits`).
         torso_frame: Frame whose orientation is a task (default: the robot's).
+        state_delay: Age [s] of the state the torques act on: the posture frequency is then
+            capped to keep a 60 deg phase margin with the damping of the least damped joint
+            (:func:`~mpcwalk.ik.delay_margin.delay_limited_frequency`: the joints shake
+            one another through the body); None: ``gains.posture``.
 
     Raises:
         SolverNotFound: ``solver`` is not installed.
@@ -88,7 +93,7 @@ class InverseDynamicsQP:
         self,
         robot,
         *,
-        solver: str = "daqp",
+        solver: str = "daqp-direct",
         solver_settings: Mapping[str, Any] | None = None,
         weights: DynamicsWeights = DynamicsWeights(),
         gains: DynamicsGains = DynamicsGains(),
@@ -97,6 +102,7 @@ class InverseDynamicsQP:
         max_normal_force: float | None = None,
         torque_limit: float | np.ndarray | None = None,
         torso_frame: str | None = None,
+        state_delay: float | None = None,
     ) -> None:
         model = robot.model
         self.robot, self.model, self.data = robot, model, model.createData()
@@ -118,9 +124,18 @@ class InverseDynamicsQP:
         self.sole_ids = [robot.frame_id(frame) for frame in robot.foot_frames]
         self.torso_frame = torso_frame or robot.torso_frame
         self.torso_id = robot.frame_id(self.torso_frame)
+        omega = np.full(self.nj, float(gains.posture))
+        if state_delay is not None and gains.posture > 0.0:  # damping rate b / M_jj at q0
+            inertia = np.diag(pin.crba(model, self.data, robot.q0))[6:]
+            rate = float(np.min(np.asarray(model.damping[6:], dtype=float) / inertia))
+            omega[:] = delay_limited_frequency(gains.posture, np.array([rate]), state_delay)
+        self.posture_frequencies = omega
+        """Natural frequency [rad/s] of each joint's posture PD, shape (nv - 6,)."""
         self.solver_name = solver
         self.solver = make_solver(solver, **dict(solver_settings or {}))
         self._programs: dict[tuple[bool, bool], DynamicsProgram] = {}
+        self._lower = np.tril_indices(self.nv, -1)
+        self._torque_rows: dict[int, np.ndarray] = {}  # tau's rows, per program size
         self._contacts: tuple[bool, bool] | None = None
         self._torques = np.zeros(self.nj)
         self.program((True, True))  # the back-end's check, now
@@ -170,8 +185,8 @@ class InverseDynamicsQP:
         effects; frame Jacobians, classical accelerations at ``a = 0`` and the centroidal
         map and its time variation are then read from the data."""
         model, data = self.model, self.data
-        M = pin.crba(model, data, q)
-        M = np.triu(M) + np.triu(M, 1).T
+        M = pin.crba(model, data, q).copy()  # its upper triangle: mirror it
+        M[self._lower] = M.T[self._lower]
         h = pin.nonLinearEffects(model, data, q, v).copy()
         pin.computeCentroidalMapTimeVariation(model, data, q, v)
         pin.forwardKinematics(model, data, q, v, np.zeros(self.nv))
@@ -235,7 +250,7 @@ class InverseDynamicsQP:
 
     def _posture(self, q, v, targets: DynamicsTargets) -> np.ndarray:
         """Desired joint accelerations of the posture task, shape (nj,)."""
-        kp, kd = self.gains.pd(self.gains.posture)
+        kp, kd = self.gains.pd(self.posture_frequencies)
         error = pin.difference(self.model, q, targets.posture)[6:]
         v_ref = targets.posture_velocity
         a_ref = targets.posture_acceleration
@@ -261,10 +276,11 @@ class InverseDynamicsQP:
                 P[:nv, :nv] += w * J.T @ J
                 c[:nv] -= w * J.T @ r
         w = self.weights.posture
-        P[6:nv, 6:nv] += w * np.eye(nj)
+        diagonal = P.reshape(-1)[:: n + 1]  # a view of P's diagonal
+        diagonal[6:nv] += w
         c[6:nv] -= w * self._posture(q, v, targets)
-        P[:nv, :nv] += self.weights.acceleration * np.eye(nv)
-        P[nv:, nv:] += self.weights.force / self.weight**2 * np.eye(n - nv)
+        diagonal[:nv] += self.weights.acceleration
+        diagonal[nv:] += self.weights.force / self.weight**2
         loads = [w for w, on in zip(targets.contact_weights, contacts) if on]
         for k, load in enumerate(loads):  # towards the share of the weight of its load
             share = load / sum(loads) * self.weight
@@ -293,7 +309,9 @@ class InverseDynamicsQP:
         limited = self._limited
         if len(limited):  # tau = M_j a + h_j - sum_i J_i,j^T f_i
             start = CONE_ROWS * k
-            T = np.zeros((nj, n))
+            T = self._torque_rows.get(n)
+            if T is None:
+                T = self._torque_rows[n] = np.zeros((nj, n))
             T[:, :nv] = M[6:]
             for _, k_i, J in jacobians:
                 T[:, nv + 6 * k_i : nv + 6 * k_i + 6] = -J[:, 6:].T

@@ -46,6 +46,7 @@ class GroundTruth:
         self.root_body = int(model.jnt_bodyid[0])
         self._gyro = _sensor_slice(model, "imu_gyro")
         self._accelerometer = _sensor_slice(model, "imu_accelerometer")
+        self._imu_site = int(model.sensor("imu_accelerometer").objid[0])
         adjacent = self._gyro.stop == self._accelerometer.start
         self._imu = slice(self._gyro.start, self._accelerometer.stop) if adjacent else None
         self._sites = list(self.contacts.site_ids)
@@ -64,6 +65,14 @@ class GroundTruth:
         if self._imu is not None:
             return data.sensordata[self._imu]
         return np.concatenate((data.sensordata[self._gyro], data.sensordata[self._accelerometer]))
+
+    def imu_at_rest(self, model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
+        """The gyroscope [rad/s] and accelerometer [m/s^2] readings of the robot at rest at
+        ``data``'s positions, shape (6,): no rotation, gravity's specific force in the IMU
+        frame."""
+        mujoco.mj_kinematics(model, data)
+        rotation = data.site_xmat[self._imu_site].reshape(3, 3)
+        return np.concatenate((np.zeros(3), rotation.T @ -model.opt.gravity))
 
     def read(self, model: mujoco.MjModel, data: mujoco.MjData, time: float) -> EstimatedState:
         """The truth at the current ``data`` (forwarded here: positions, contact forces,

@@ -201,7 +201,15 @@ class Simulation:
             self._check_stable(-settle)
         self.data.time = 0.0
         self._substep = 0
-        self.ground_truth.imu_mean = None  # at rest: the instantaneous readings
+        # At rest. Servos holding q give no torque until the robot moves: the instantaneous
+        # readings. Motors hold it with its static torques, but its contacts carry no load
+        # yet: the instantaneous accelerometer would read a base that drops and pitches
+        # (atlas-like: 4 deg of tilt, which the estimator took for gravity's).
+        self.ground_truth.imu_mean = (
+            self.ground_truth.imu_at_rest(self.model, self.data)
+            if self.actuation == "torque" and nb_settle == 0
+            else None
+        )
         self._state = self._compute_state(first=True)
         return self._state
 

@@ -78,13 +78,16 @@ def build_controller(
     step_height: float,
     terrain: Terrain | None = None,
     actuation: str = "position",
+    state_delay: float | None = None,
 ) -> WalkingController:
     """The controller of ``spec`` on ``robot``, following ``schedule``.
 
     The robot preset's ``dcm_gain`` and ``observer_gain`` come first, the specification's
     controller options over them. A generator that holds the CoM above the support foot gets
     the IK damped by :data:`STATIC_IK_DAMPING`. A torque-controlled robot (``actuation``
-    ``"torque"``) gets a :class:`~mpcwalk.control.torque_controller.TorqueController`.
+    ``"torque"``) gets a :class:`~mpcwalk.control.torque_controller.TorqueController`
+    whose posture gain is capped for ``state_delay`` [s], the age of its estimated state
+    (:func:`~mpcwalk.control.torque_controller.state_delay`; None: one control period).
     """
     check_controller(spec)
     gait = robot.gait
@@ -112,6 +115,8 @@ def build_controller(
     if stabilizer is not None:
         options["stabilizer"] = stabilizer
     controller_class = TorqueController if actuation == "torque" else WalkingController
+    if actuation == "torque":
+        options["state_delay"] = state_delay
     return controller_class.for_robot(
         robot,
         spec.generator,

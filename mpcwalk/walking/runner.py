@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from mpcwalk.control.torque_controller import state_delay
 from mpcwalk.estimation.estimator import Estimator
 from mpcwalk.footsteps.velocity_planner import VelocityCommand
 from mpcwalk.robot import Robot
@@ -127,6 +128,16 @@ def _walk(
     spec, robot = setup.spec, setup.robot
     plan, world, run = spec.plan, spec.world, spec.run
     period = plan.control_period
+    estimator = (
+        Estimator(  # tuned to the robot's data sheet, whatever the world's sensors do
+            robot,
+            control_period=period,
+            encoder_resolution=SensorModel.for_robot(robot).encoder_resolution,
+            terrain=world.terrain,  # the robot's map of the ground
+        )
+        if world.state == "estimator"
+        else None
+    )
     walker = build_controller(
         robot,
         spec.controller,
@@ -135,6 +146,13 @@ def _walk(
         step_height=setup.step_height,
         terrain=world.terrain,
         actuation=world.actuation,
+        state_delay=state_delay(
+            period,
+            latency=world.to_config(robot, period, run.seed)["latency_s"],
+            velocity_cutoff=(
+                None if estimator is None else estimator.joint_velocities.cutoff_frequency
+            ),
+        ),
     )
     simulation = Simulation(
         robot,
@@ -146,16 +164,6 @@ def _walk(
         ground=world.ground(seed=run.seed),
         terrain=world.terrain,
         actuation=world.actuation,
-    )
-    estimator = (
-        Estimator(  # tuned to the robot's data sheet, whatever the world's sensors do
-            robot,
-            control_period=period,
-            encoder_resolution=SensorModel.for_robot(robot).encoder_resolution,
-            terrain=world.terrain,  # the robot's map of the ground
-        )
-        if world.state == "estimator"
-        else None
     )
     detector = fall_detector or FallDetector.for_robot(robot, terrain=world.terrain)
     faults = spec.disturbances.sensor_faults

@@ -7,6 +7,8 @@ walking QP: ``P`` never changes, ``A`` only when the polygons over the horizon c
 each tick then only pushes the vectors: no refactorisation, and the solve starts from the
 active set of the previous tick (hot start). QPs rebuilt every tick (the footstep-adaptive
 MPC's) are set up anew each tick, with the shifted previous solution as the primal start.
+A dense QP with equality rows that offers them (``dense_rows()``: the inverse dynamics') is
+solved in one call, the equalities held in the working set for good (DAQP's sense 5).
 """
 
 import time
@@ -25,7 +27,8 @@ _INFINITY = 1e30  # DAQP's "no bound"
 class DaqpSolver(QPSolver):
     """DAQP through its workspace (``daqp.Model``), hot-started.
 
-    Only the dense formulation (a positive definite ``P``, inequality rows only) applies.
+    Only the dense formulation (a positive definite ``P``; inequality rows only, or
+    equalities given by the program's ``dense_rows()``) applies.
 
     Args:
         settings: DAQP settings (``primal_tol``, ``dual_tol``, ``iter_limit``...), given to
@@ -54,13 +57,15 @@ class DaqpSolver(QPSolver):
         self._previous: np.ndarray | None = None
         self._lower = np.zeros(0)
         self._sense = np.zeros(0, dtype=np.int32)
+        self._row_sense = np.zeros(0, dtype=np.int32)  # the rows of dense_rows(): m_eq first
+        self._row_shape = (0, 0)
 
     def reset(self) -> None:
         self._model = self._qp = self._previous = None
         self._versions = (-1, -1)
 
     def check(self, qp: QuadraticProgram) -> None:
-        if qp.formulation == "sparse" or qp.m_eq:
+        if qp.formulation == "sparse" or (qp.m_eq and not hasattr(qp, "dense_rows")):
             raise ConfigurationError(
                 f"Solver '{self.name}' needs a positive definite cost matrix and inequality "
                 "rows only, but the sparse formulation's P is only semidefinite (states are "
@@ -82,6 +87,8 @@ class DaqpSolver(QPSolver):
     def solve(self, qp: QuadraticProgram, *, shift: float = 0.0) -> QPResult:
         self.check(qp)
         qp.require_update()
+        if qp.m_eq:
+            return self._solve_rows(qp)
         start = time.perf_counter()
         P, q, G, h = qp.dense_arrays()  # DAQP reads bounds >= 1e30 (and inf) as none
         if not h.flags.writeable:  # DAQP takes writable buffers only
@@ -121,6 +128,11 @@ class DaqpSolver(QPSolver):
         primal = float(max(0.0, np.max(Gx - h))) if len(h) else 0.0
         dual = float(np.max(np.abs(Px + q + G.T @ z)))
         gap = float(abs(x @ Px + q @ x + h @ z))
+        return self._found(x, z, elapsed, info, (primal, dual, gap))
+
+    def _found(self, x, z, elapsed: float, info, residuals) -> QPResult:
+        """The result of a solve DAQP found, with its (primal, dual, gap) residuals."""
+        primal, dual, gap = residuals
         return QPResult(
             x=x,
             y=z,
@@ -133,3 +145,26 @@ class DaqpSolver(QPSolver):
             duality_gap=gap,
             solver=self.name,
         )
+
+    def _solve_rows(self, qp) -> QPResult:
+        """A dense QP with equality rows (``dense_rows()``: ``lower <= A x <= upper``, the
+        ``m_eq`` equalities first), its values new each tick (the inverse dynamics'): DAQP
+        holds the equalities in its working set for good (sense 5: active, immutable)."""
+        start = time.perf_counter()
+        P, q, A, lower, upper = qp.dense_rows()
+        shape = (len(upper), int(qp.m_eq))
+        if self._row_sense.shape != (shape[0],) or self._row_shape != shape:
+            self._row_sense = np.zeros(shape[0], dtype=np.int32)
+            self._row_sense[: shape[1]] = 5
+            self._row_shape = shape
+        self._model = None
+        x, _, exitflag, info = daqp.solve(P, q, A, upper, lower, self._row_sense, **self.settings)
+        elapsed = time.perf_counter() - start
+        if exitflag <= 0:
+            return failure(self.name, f"exitflag {exitflag}", elapsed)
+        x = np.asarray(x, dtype=float)
+        z = np.asarray(info["lam"], dtype=float)
+        Ax = A @ x
+        primal = float(max(0.0, np.max(Ax - upper), np.max(lower - Ax)))
+        dual = float(np.max(np.abs(P @ x + q + A.T @ z)))
+        return self._found(x, z, elapsed, info, (primal, dual, None))
