@@ -46,6 +46,8 @@ CHECK_SAMPLES = 301
 #: Height [m] the apex adds to the clearance; an overlapping swing keeps half of it at its
 #: checked instants (what it may lose between them).
 CHECK_MARGIN = 0.001
+#: Drop [m] from which a swing is a step down: it lowers only once its travel has ended.
+STEP_DOWN_MIN = 0.005
 #: Positions along a swing's way at which the ground under the swept sole is sampled.
 _SWEEP_SAMPLES = 101
 
@@ -190,8 +192,13 @@ class SwingClearance:
         rise_overlap = next(
             (o for o in OVERLAPS if self._clears(shaped(o, 0.0), lift, landing)), 0.0
         )
-        lower_overlap = next(
-            (o for o in OVERLAPS if self._clears(shaped(rise_overlap, o), lift, landing)), 0.0
+        lower_overlap = (
+            0.0
+            if float(landing.position[2]) < float(lift.position[2]) - STEP_DOWN_MIN
+            else next(
+                (o for o in OVERLAPS if self._clears(shaped(rise_overlap, o), lift, landing)),
+                0.0,
+            )
         )
         return shaped(rise_overlap, lower_overlap)
 
