@@ -55,7 +55,7 @@ MARGIN_WEIGHT = 2.0
 #: prefers: the landing moves towards the front of the lower tread, so that a swing foot
 #: falling a few centimetres short of its target (compliant servos, the stance leg bent
 #: by the lowered CoM) does not put its heel on the nose it steps down from.
-DESCENT_HEEL_ROOM = 0.3
+DESCENT_HEEL_ROOM = 0.2
 
 
 def _heading(yaw: float) -> np.ndarray:
