@@ -4,10 +4,14 @@ does not catch the nose it steps down from (what made the G1 fall on its first s
 its swing sole fell 4-5 cm short of a landing whose heel was 4.3 cm from the nose)."""
 
 import numpy as np
+import pytest
 
 from mpcwalk.footsteps import LegLimits, StepTiming, VelocityPlanner
 from mpcwalk.footsteps.footstep import FootGeometry, Side
+from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.gait.heel_off import HEEL_OFF_PITCH
 from mpcwalk.gait.swing_clearance import SwingClearance
+from mpcwalk.gait.swing_foot import SwingFootTrajectory
 from mpcwalk.terrain import Stairs, Terrain, TerrainReach
 from mpcwalk.walking.runner import run_walk
 from mpcwalk.walking.specification import WalkSpec
@@ -69,25 +73,54 @@ def test_a_step_down_swing_lowers_only_after_its_travel():
     assert up is not None and up.travel_start < up.rise_end  # climbing overlaps as before
 
 
-def test_the_small_humanoid_walks_down_stairs_of_23_percent_of_its_leg():
-    """Closed loop on the estimator: two steps up and two down of 5 cm (23 % of the leg),
-    treads 1.5 soles; every step completed, every landing on its tread."""
-    terrain = Terrain(
-        [Stairs(0.15, rise=0.05, run=0.15, count=2), Stairs(0.6, rise=-0.05, run=0.15, count=2)]
+def test_a_trailing_foot_heels_off_about_its_toe_before_it_steps_down():
+    """Through the double support before a step down the trailing sole turns toe down
+    about its toe (the toe stays where it rests), keeps that pitch while it rises and
+    travels, and lands flat; a step onto the same height keeps its sole flat."""
+    plan = g1_plan()
+    schedule = ContactSchedule(plan, FootGeometry(0.20, 0.07))
+    trajectory = SwingFootTrajectory(schedule, 0.06, terrain=G1_STAIRS)
+    k, (lift, landing) = next(
+        (k, (plan.stance(k)[s.side], s))
+        for k, s in enumerate(plan.steps)
+        if s.position[2] < plan.stance(k)[s.side].position[2] - 0.01
     )
+    start = schedule.walk_start + k * schedule.step_duration
+    lift_off, touch_down = start + schedule.t_b, start + schedule.t_e
+    for t in np.linspace(start, lift_off, 7)[1:]:
+        foot = trajectory.foot_poses(t)[landing.side]
+        toe = foot.position[:2] + 0.1 * np.cos(foot.pitch) * np.array([1.0, 0.0])
+        np.testing.assert_allclose(toe, lift.xy + [0.1, 0.0], atol=1e-9)
+        assert foot.position[2] == pytest.approx(lift.position[2] + 0.1 * np.sin(foot.pitch))
+    assert trajectory.foot_poses(lift_off)[landing.side].pitch == pytest.approx(HEEL_OFF_PITCH)
+    middle = trajectory.foot_poses(0.5 * (lift_off + touch_down))[landing.side]
+    assert middle.pitch == pytest.approx(HEEL_OFF_PITCH)
+    landed = trajectory.foot_poses(touch_down)[landing.side]
+    assert landed.pitch == pytest.approx(0.0, abs=1e-12)
+    np.testing.assert_allclose(landed.position, landing.position, atol=1e-9)
+    level = next(k for k, s in enumerate(plan.steps) if k > 2 and s.position[2] == 0.6)
+    t = schedule.walk_start + (level + 0.05) * schedule.step_duration
+    assert trajectory.foot_poses(t)[plan.steps[level].side].pitch == 0.0
+
+
+def test_the_g1_steps_down_a_quarter_of_its_leg():
+    """Closed loop on the estimator, the G1 with ``mpc``: two stairs down of 16.5 cm (25 %
+    of its leg), treads 1.5 soles. Without the heel-off its trailing ankle stops at 50 deg
+    of dorsiflexion in the double support between the two heights, the IK turns the pelvis
+    and the robot falls at 6.2 s, in its first step down."""
+    terrain = Terrain([Stairs(0.4, rise=-0.165, run=0.30, count=2)])
     spec = WalkSpec.build(
-        "bioloid-like",
+        "g1",
         controller="mpc",
-        command=(0.05, 0.0, 0.0),
-        nb_steps=16,
-        step_duration=0.8,
+        command=(0.1, 0.0, 0.0),
+        nb_steps=4,
+        step_duration=1.5,
         terrain=terrain,
         progress=False,
     )
     result = run_walk(spec)
     m = result.metrics
-    assert not m.fell and m.steps_completed == m.steps_planned
-    assert m.landing_height_error_cm_max < 1.0
-    assert len(list(steps_down(result.schedule.plan))) == 4
-    final = result.log.sole_positions[-1]
-    assert final[:, 0].min() > 0.9 and abs(final[:, 2]).max() < 0.005  # past the stairs
+    assert not m.fell and m.steps_completed == m.steps_planned == 5
+    heights = [round(float(s.position[2]), 6) for s in result.schedule.plan.steps]
+    assert heights[-2:] == [-0.165, -0.165]  # both feet on the first lower tread
+    assert m.toe_stubs == 0 and m.landing_height_error_cm_max < 1.0
