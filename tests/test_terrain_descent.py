@@ -9,7 +9,7 @@ import pytest
 from mpcwalk.footsteps import LegLimits, StepTiming, VelocityPlanner
 from mpcwalk.footsteps.footstep import FootGeometry, Side
 from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.gait.heel_off import HEEL_OFF_PITCH
+from mpcwalk.gait.heel_off import heel_off_pitch
 from mpcwalk.gait.swing_clearance import SwingClearance
 from mpcwalk.gait.swing_foot import SwingFootTrajectory
 from mpcwalk.terrain import Stairs, Terrain, TerrainReach
@@ -85,6 +85,8 @@ def test_a_trailing_foot_heels_off_about_its_toe_before_it_steps_down():
         for k, s in enumerate(plan.steps)
         if s.position[2] < plan.stance(k)[s.side].position[2] - 0.01
     )
+    pitch = heel_off_pitch(lift, landing, 0.20)
+    assert pitch == pytest.approx(0.42 * 0.12 / 0.20)  # per sole length of drop
     start = schedule.walk_start + k * schedule.step_duration
     lift_off, touch_down = start + schedule.t_b, start + schedule.t_e
     for t in np.linspace(start, lift_off, 7)[1:]:
@@ -92,9 +94,9 @@ def test_a_trailing_foot_heels_off_about_its_toe_before_it_steps_down():
         toe = foot.position[:2] + 0.1 * np.cos(foot.pitch) * np.array([1.0, 0.0])
         np.testing.assert_allclose(toe, lift.xy + [0.1, 0.0], atol=1e-9)
         assert foot.position[2] == pytest.approx(lift.position[2] + 0.1 * np.sin(foot.pitch))
-    assert trajectory.foot_poses(lift_off)[landing.side].pitch == pytest.approx(HEEL_OFF_PITCH)
+    assert trajectory.foot_poses(lift_off)[landing.side].pitch == pytest.approx(pitch)
     middle = trajectory.foot_poses(0.5 * (lift_off + touch_down))[landing.side]
-    assert middle.pitch == pytest.approx(HEEL_OFF_PITCH)
+    assert middle.pitch == pytest.approx(pitch)
     landed = trajectory.foot_poses(touch_down)[landing.side]
     assert landed.pitch == pytest.approx(0.0, abs=1e-12)
     np.testing.assert_allclose(landed.position, landing.position, atol=1e-9)

@@ -4,8 +4,9 @@ In the double support before a step down the trailing foot rests on the higher t
 the CoM moves over the lower one: with the sole flat its ankle must bend further than it can
 (the G1's ankle pitch stops at 50 deg of dorsiflexion; on 0.30 m treads a flat trailing foot
 needs 52.6 deg for a rise of 14 cm), and the IK then rolls and turns the pelvis to reach it.
-A human lifts the heel first. Here the trailing sole pitches toe down by :data:`HEEL_OFF_PITCH`
-about its toe edge over that double support (the toe stays on the tread), keeps that pitch
+A human lifts the heel first. Here the trailing sole pitches toe down about its toe edge over
+that double support, by :data:`HEEL_OFF_PER_SOLE` per sole length of drop and at most
+:data:`HEEL_OFF_PITCH` (:func:`heel_off_pitch`) (the toe stays on the tread), keeps that pitch
 while it rises and travels, and returns to the landing's pitch while it lowers onto the lower
 tread. Other steps are unchanged.
 """
@@ -18,8 +19,11 @@ from mpcwalk._checks import frozen_array
 from mpcwalk.footsteps.footstep import Footstep
 from mpcwalk.gait.foot_state import FootState
 
-#: Pitch [rad] (toe down) the trailing sole reaches about its toe before it steps down.
+#: Pitch [rad] (toe down) the trailing sole reaches about its toe before it steps down,
+#: at most.
 HEEL_OFF_PITCH = 0.35
+#: Pitch [rad] per drop of one sole length (a drop of 0.83 sole reaches the most).
+HEEL_OFF_PER_SOLE = 0.42
 #: Drop [m] of a landing below its lift-off from which a step is a step down.
 STEP_DOWN_MIN = 0.005
 
@@ -34,13 +38,25 @@ def steps_down(lift: Footstep, landing: Footstep) -> bool:
     return float(landing.position[2]) < float(lift.position[2]) - STEP_DOWN_MIN
 
 
-def heel_off_angle(share: float, duration: float, rising: bool) -> tuple[float, float]:
+def heel_off_pitch(lift: Footstep, landing: Footstep, sole_length: float) -> float:
+    """Pitch [rad] the trailing sole reaches before stepping from ``lift`` down to
+    ``landing``: :data:`HEEL_OFF_PER_SOLE` per sole length of drop, at most
+    :data:`HEEL_OFF_PITCH` (0 for a step that does not go down)."""
+    if not steps_down(lift, landing):
+        return 0.0
+    drop = float(lift.position[2] - landing.position[2])
+    return min(HEEL_OFF_PITCH, HEEL_OFF_PER_SOLE * drop / sole_length)
+
+
+def heel_off_angle(
+    share: float, duration: float, rising: bool, pitch: float = HEEL_OFF_PITCH
+) -> tuple[float, float]:
     """Pitch [rad] about the toe and its rate [rad/s] a ``share`` into a motion lasting
-    ``duration`` [s]: rising to :data:`HEEL_OFF_PITCH` (``rising``) or returning to 0."""
+    ``duration`` [s]: rising to ``pitch`` [rad] (``rising``) or returning from it to 0."""
     r, dr = _quintic(share)
     if rising:
-        return HEEL_OFF_PITCH * r, HEEL_OFF_PITCH * dr / duration
-    return HEEL_OFF_PITCH * (1.0 - r), -HEEL_OFF_PITCH * dr / duration
+        return pitch * r, pitch * dr / duration
+    return pitch * (1.0 - r), -pitch * dr / duration
 
 
 def about_toe(state: FootState, angle: float, rate: float, length: float) -> FootState:
@@ -76,33 +92,38 @@ def before_lift(trajectory, state: FootState, lift: Footstep, landing: Footstep,
     before its swing to ``landing`` of ``trajectory`` (a
     :class:`~mpcwalk.gait.swing_foot.SwingFootTrajectory`): heeled off when the swing steps
     down, else unchanged."""
-    if not steps_down(lift, landing):
+    length = trajectory.schedule.foot.length
+    pitch = heel_off_pitch(lift, landing, length)
+    if pitch == 0.0:
         return state
     phase = trajectory.schedule.phase(t)
     share = (t - phase.start) / phase.duration
-    angle = heel_off_angle(share, phase.duration, rising=True)
-    return about_toe(state, *angle, trajectory.schedule.foot.length)
+    return about_toe(state, *heel_off_angle(share, phase.duration, True, pitch), length)
 
 
 def in_swing(trajectory, state: FootState, lift: Footstep, landing: Footstep, phi: float):
     """The swinging foot ``state`` at the step phase ``phi`` of its shaped swing from
     ``lift`` to ``landing`` of ``trajectory``: still heeled off, then returning to the
     landing's pitch while it lowers, when it steps down; else unchanged."""
-    if not steps_down(lift, landing):
+    length = trajectory.schedule.foot.length
+    pitch = heel_off_pitch(lift, landing, length)
+    if pitch == 0.0:
         return state
     span = trajectory.phi_e - trajectory.phi_b
     lower = trajectory.terrain_clearance.shape(lift, landing).lower_start
     width = max(1.0 - lower, 1e-9)
     share = ((phi - trajectory.phi_b) / span - lower) / width
-    angle = heel_off_angle(share, width * span * trajectory.step_duration, rising=False)
-    return about_toe(state, *angle, trajectory.schedule.foot.length)
+    angle = heel_off_angle(share, width * span * trajectory.step_duration, False, pitch)
+    return about_toe(state, *angle, length)
 
 
 __all__ = [
+    "HEEL_OFF_PER_SOLE",
     "HEEL_OFF_PITCH",
     "about_toe",
     "before_lift",
     "heel_off_angle",
+    "heel_off_pitch",
     "in_swing",
     "steps_down",
 ]
