@@ -18,24 +18,13 @@ import numpy as np
 from mpcwalk._checks import frozen_array
 from mpcwalk.footsteps.footstep import Footstep
 from mpcwalk.gait.foot_state import FootState
+from mpcwalk.gait.swing_clearance import rest_to_rest, steps_down
 
 #: Pitch [rad] (toe down) the trailing sole reaches about its toe before it steps down,
 #: at most.
 HEEL_OFF_PITCH = 0.35
 #: Pitch [rad] per drop of one sole length (a drop of 0.83 sole reaches the most).
 HEEL_OFF_PER_SOLE = 0.42
-#: Drop [m] of a landing below its lift-off from which a step is a step down.
-STEP_DOWN_MIN = 0.005
-
-
-def _quintic(x: float) -> tuple[float, float]:
-    x = min(max(x, 0.0), 1.0)
-    return x**3 * (10.0 - 15.0 * x + 6.0 * x**2), 30.0 * x**2 * (1.0 - x) ** 2
-
-
-def steps_down(lift: Footstep, landing: Footstep) -> bool:
-    """Whether the swing from ``lift`` to ``landing`` goes down."""
-    return float(landing.position[2]) < float(lift.position[2]) - STEP_DOWN_MIN
 
 
 def heel_off_pitch(lift: Footstep, landing: Footstep, sole_length: float) -> float:
@@ -53,7 +42,7 @@ def heel_off_angle(
 ) -> tuple[float, float]:
     """Pitch [rad] about the toe and its rate [rad/s] a ``share`` into a motion lasting
     ``duration`` [s]: rising to ``pitch`` [rad] (``rising``) or returning from it to 0."""
-    r, dr = _quintic(share)
+    r, dr = rest_to_rest(share)
     if rising:
         return pitch * r, pitch * dr / duration
     return pitch * (1.0 - r), -pitch * dr / duration
@@ -125,5 +114,4 @@ __all__ = [
     "heel_off_angle",
     "heel_off_pitch",
     "in_swing",
-    "steps_down",
 ]

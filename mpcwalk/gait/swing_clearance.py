@@ -52,10 +52,17 @@ STEP_DOWN_MIN = 0.005
 _SWEEP_SAMPLES = 101
 
 
-def _quintic(x: float) -> tuple[float, float]:
-    """Rest-to-rest law ``10 x^3 - 15 x^4 + 6 x^5`` on [0, 1] and its derivative."""
+def rest_to_rest(x: float) -> tuple[float, float]:
+    """Rest-to-rest law ``10 x^3 - 15 x^4 + 6 x^5`` on [0, 1] (clipped) and its
+    derivative."""
     x = min(max(x, 0.0), 1.0)
     return x**3 * (10.0 - 15.0 * x + 6.0 * x**2), 30.0 * x**2 * (1.0 - x) ** 2
+
+
+def steps_down(lift: Footstep, landing: Footstep) -> bool:
+    """Whether the swing from ``lift`` to ``landing`` goes down by :data:`STEP_DOWN_MIN`
+    or more."""
+    return float(landing.position[2]) < float(lift.position[2]) - STEP_DOWN_MIN
 
 
 @dataclass(frozen=True)
@@ -85,17 +92,17 @@ class SwingShape:
         [m] with respect to the share ``s`` of the single support."""
         span = self.travel_end - self.travel_start
         if span > 0.0:
-            h, dh = _quintic((s - self.travel_start) / span)
+            h, dh = rest_to_rest((s - self.travel_start) / span)
             dh /= span
         else:  # no way to travel
             h, dh = (0.0 if s < self.travel_start else 1.0), 0.0
         if s <= self.rise_end:
-            r, dr = _quintic(s / self.rise_end) if self.rise_end > 0.0 else (1.0, 0.0)
+            r, dr = rest_to_rest(s / self.rise_end) if self.rise_end > 0.0 else (1.0, 0.0)
             rise = self.apex - self.lift_height
             z, dz = self.lift_height + rise * r, rise * dr / max(self.rise_end, 1e-12)
         elif s >= self.lower_start:
             width = 1.0 - self.lower_start
-            r, dr = _quintic((s - self.lower_start) / width) if width > 0.0 else (1.0, 0.0)
+            r, dr = rest_to_rest((s - self.lower_start) / width) if width > 0.0 else (1.0, 0.0)
             drop = self.landing_height - self.apex
             z, dz = self.apex + drop * r, drop * dr / max(width, 1e-12)
         else:
@@ -194,7 +201,7 @@ class SwingClearance:
         )
         lower_overlap = (
             0.0
-            if float(landing.position[2]) < float(lift.position[2]) - STEP_DOWN_MIN
+            if steps_down(lift, landing)
             else next(
                 (o for o in OVERLAPS if self._clears(shaped(rise_overlap, o), lift, landing)),
                 0.0,
@@ -236,5 +243,7 @@ __all__ = [
     "OVERLAPS",
     "SwingClearance",
     "SwingShape",
+    "rest_to_rest",
+    "steps_down",
     "with_height",
 ]
