@@ -41,6 +41,8 @@ from mpcwalk.terrain import Terrain, TerrainReach
 #: Preference [share of the sole length] of a place wholly on one block of a rough patch.
 ROUGH_PREFERENCE = 0.5
 _EPS = 1e-9
+#: Drop [m] below the swing foot's lift-off height from which a landing is a step down.
+_DESCENT_MIN = 0.005
 
 
 #: Margin to a top's edges [share of the sole length] a landing prefers: on a tread or a stone
@@ -49,6 +51,11 @@ _EPS = 1e-9
 PREFERRED_MARGIN = 0.25
 #: Metres of distance from the nominal landing one metre of missing margin is worth.
 MARGIN_WEIGHT = 2.0
+#: Room [share of the sole length] a step down adds behind the heel to the margin it
+#: prefers: the landing moves towards the front of the lower tread, so that a swing foot
+#: falling a few centimetres short of its target (compliant servos, the stance leg bent
+#: by the lowered CoM) does not put its heel on the nose it steps down from.
+DESCENT_HEEL_ROOM = 0.2
 
 
 def _heading(yaw: float) -> np.ndarray:
@@ -135,15 +142,33 @@ class TerrainStepPlacer:
             and place.stride <= self.reach.max_stride + _EPS
         )
 
-    def _preference(self, place: Place, yaw: float = 0.0) -> tuple[float, int]:
+    def _preference(
+        self, place: Place, yaw: float = 0.0, lift_height: float = -np.inf
+    ) -> tuple[float, int]:
         penalty = 0.0
         if place.top[0] == "rough" and not place.wholly:
             penalty = ROUGH_PREFERENCE * self.reach.sole_length
         if place.top[0] == "top":  # treads, stones, landings: keep the sole off their edges
             wanted = PREFERRED_MARGIN * self.reach.sole_length
-            margin = self.tops.support(place.center, yaw).margin
+            if place.height < lift_height - _DESCENT_MIN:
+                margin = self._heel_room_margin(place, yaw)  # a step down
+            else:
+                margin = self.tops.support(place.center, yaw).margin
             penalty += MARGIN_WEIGHT * max(0.0, wanted - margin)
         return abs(place.offset) + penalty, 0 if place.offset >= 0.0 else 1
+
+    def _heel_room_margin(self, place: Place, yaw: float) -> float:
+        """Margin [m] to the top's edges of the sole lengthened behind its heel by
+        :data:`DESCENT_HEEL_ROOM` (how a step down measures its place)."""
+        room = DESCENT_HEEL_ROOM * self.reach.sole_length
+        center = np.asarray(place.center, dtype=float) - 0.5 * room * _heading(yaw)
+        return self.terrain.sole_support(
+            center,
+            yaw,
+            self.reach.sole_length + room,
+            self.reach.sole_width,
+            self.tops.samples,
+        ).margin
 
     def _choose(
         self,
@@ -170,16 +195,21 @@ class TerrainStepPlacer:
         pool = [p for p in valid if p.top in allowed]
         if not pool:
             raise self._infeasible(k, step, target, support, own)
-        best = min(pool, key=lambda p: self._preference(p, step.yaw))
+        lift = float(swing.position[2])
+
+        def preference(p: Place) -> tuple[float, int]:
+            return self._preference(p, step.yaw, lift)
+
+        best = min(pool, key=preference)
         on_own = [p for p in pool if p.top == own]
         on_next = [p for p in pool if p.top == following]
         progress = float((target - support.xy) @ _heading(support.yaw))
         if closing and on_own:
-            return min(on_own, key=lambda p: self._preference(p, step.yaw))
+            return min(on_own, key=preference)
         if progress > _EPS and best.top == own:
             stalled = best.stride <= _EPS
             if on_next and (self.tops.is_narrow(own) or stalled):
-                return min(on_next, key=lambda p: self._preference(p, step.yaw))
+                return min(on_next, key=preference)
             if stalled and not on_next and left == own:
                 raise self._infeasible(k, step, target, support, own)
         return best
@@ -223,4 +253,4 @@ def place_on_terrain(
     return TerrainStepPlacer(terrain, reach, limits).place(plan, closing=closing)
 
 
-__all__ = ["ROUGH_PREFERENCE", "TerrainStepPlacer", "place_on_terrain"]
+__all__ = ["DESCENT_HEEL_ROOM", "ROUGH_PREFERENCE", "TerrainStepPlacer", "place_on_terrain"]

@@ -46,14 +46,23 @@ CHECK_SAMPLES = 301
 #: Height [m] the apex adds to the clearance; an overlapping swing keeps half of it at its
 #: checked instants (what it may lose between them).
 CHECK_MARGIN = 0.001
+#: Drop [m] from which a swing is a step down: it lowers only once its travel has ended.
+STEP_DOWN_MIN = 0.005
 #: Positions along a swing's way at which the ground under the swept sole is sampled.
 _SWEEP_SAMPLES = 101
 
 
-def _quintic(x: float) -> tuple[float, float]:
-    """Rest-to-rest law ``10 x^3 - 15 x^4 + 6 x^5`` on [0, 1] and its derivative."""
+def rest_to_rest(x: float) -> tuple[float, float]:
+    """Rest-to-rest law ``10 x^3 - 15 x^4 + 6 x^5`` on [0, 1] (clipped) and its
+    derivative."""
     x = min(max(x, 0.0), 1.0)
     return x**3 * (10.0 - 15.0 * x + 6.0 * x**2), 30.0 * x**2 * (1.0 - x) ** 2
+
+
+def steps_down(lift: Footstep, landing: Footstep) -> bool:
+    """Whether the swing from ``lift`` to ``landing`` goes down by :data:`STEP_DOWN_MIN`
+    or more."""
+    return float(landing.position[2]) < float(lift.position[2]) - STEP_DOWN_MIN
 
 
 @dataclass(frozen=True)
@@ -83,17 +92,17 @@ class SwingShape:
         [m] with respect to the share ``s`` of the single support."""
         span = self.travel_end - self.travel_start
         if span > 0.0:
-            h, dh = _quintic((s - self.travel_start) / span)
+            h, dh = rest_to_rest((s - self.travel_start) / span)
             dh /= span
         else:  # no way to travel
             h, dh = (0.0 if s < self.travel_start else 1.0), 0.0
         if s <= self.rise_end:
-            r, dr = _quintic(s / self.rise_end) if self.rise_end > 0.0 else (1.0, 0.0)
+            r, dr = rest_to_rest(s / self.rise_end) if self.rise_end > 0.0 else (1.0, 0.0)
             rise = self.apex - self.lift_height
             z, dz = self.lift_height + rise * r, rise * dr / max(self.rise_end, 1e-12)
         elif s >= self.lower_start:
             width = 1.0 - self.lower_start
-            r, dr = _quintic((s - self.lower_start) / width) if width > 0.0 else (1.0, 0.0)
+            r, dr = rest_to_rest((s - self.lower_start) / width) if width > 0.0 else (1.0, 0.0)
             drop = self.landing_height - self.apex
             z, dz = self.apex + drop * r, drop * dr / max(width, 1e-12)
         else:
@@ -190,8 +199,13 @@ class SwingClearance:
         rise_overlap = next(
             (o for o in OVERLAPS if self._clears(shaped(o, 0.0), lift, landing)), 0.0
         )
-        lower_overlap = next(
-            (o for o in OVERLAPS if self._clears(shaped(rise_overlap, o), lift, landing)), 0.0
+        lower_overlap = (
+            0.0
+            if steps_down(lift, landing)
+            else next(
+                (o for o in OVERLAPS if self._clears(shaped(rise_overlap, o), lift, landing)),
+                0.0,
+            )
         )
         return shaped(rise_overlap, lower_overlap)
 
@@ -229,5 +243,7 @@ __all__ = [
     "OVERLAPS",
     "SwingClearance",
     "SwingShape",
+    "rest_to_rest",
+    "steps_down",
     "with_height",
 ]

@@ -25,6 +25,7 @@ import numpy as np
 from mpcwalk._checks import as_float, frozen_array
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Footstep, Side, wrap_angle
+from mpcwalk.gait import heel_off
 from mpcwalk.gait.contact_schedule import ContactSchedule, Phase
 from mpcwalk.gait.foot_state import FeetState, FootState
 from mpcwalk.gait.interpolation import step_interpolation_scalar, swing_height_scalar
@@ -253,6 +254,8 @@ class SwingFootTrajectory:
             if swing in in_contact:
                 phi = schedule.step_phase(t)
                 states[swing] = self._static(lift if phi < 0.5 else landing)
+                if phi < 0.5 and self.terrain_clearance is not None:  # heel-off, stepping down
+                    states[swing] = heel_off.before_lift(self, states[swing], lift, landing, t)
             else:
                 states[swing] = self._swing_state(t, lift, landing, h, dh)
                 if k in self._restarts:
@@ -274,7 +277,8 @@ class SwingFootTrajectory:
             )
             if shaped is not None:
                 state = self._blend(lift, landing, shaped[0], shaped[1], 0.0, 0.0)
-                return with_height(state, shaped[2], shaped[3])
+                state = with_height(state, shaped[2], shaped[3])
+                return heel_off.in_swing(self, state, lift, landing, phi)
         if self.profile == "ctraj":
             h, dh, v, dv = self._ctraj_interpolants(phi)
             return self._blend(lift, landing, h, dh, v, dv)
