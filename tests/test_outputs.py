@@ -84,15 +84,23 @@ def test_mujoco_warnings_go_under_out(tmp_path, monkeypatch):
     out = tmp_path / "w"
     out.mkdir()
     previous = mujoco.get_mju_user_warning()
-    try:
-        log_mujoco_messages(out)
-        xml = '<mujoco><worldbody><body><freejoint/><geom size="0.1"/></body></worldbody></mujoco>'
-        model = mujoco.MjModel.from_xml_string(xml)
+    xml = '<mujoco><worldbody><body><freejoint/><geom size="0.1"/></body></worldbody></mujoco>'
+    model = mujoco.MjModel.from_xml_string(xml)
+
+    def diverge():
         data = mujoco.MjData(model)
         data.qpos[:] = np.nan  # a diverged simulation: MuJoCo warns
         mujoco.mj_step(model, data)
-    finally:
-        mujoco.set_mju_user_warning(previous)
+
+    with log_mujoco_messages(out):
+        diverge()
+        (out / MUJOCO_LOG_FILE).unlink()
+        out.rmdir()  # the log cannot be written: the warning goes to the standard error
+        diverge()
+    assert mujoco.get_mju_user_warning() is previous  # restored after the walk
+    out.mkdir()
+    with log_mujoco_messages(out):
+        diverge()
     assert "The simulation is unstable" in (out / MUJOCO_LOG_FILE).read_text()
     assert not (tmp_path / "MUJOCO_LOG.TXT").exists()
 

@@ -88,14 +88,14 @@ def walk(args: argparse.Namespace, *, observer=None) -> int:
     created = not out.exists()
     if args.video:  # written during the walk
         out.mkdir(parents=True, exist_ok=True)
-    log_mujoco_messages(out)
-    try:
-        result = run_walk(spec, observer=observer)
-    except MpcwalkError:
-        if created and out.is_dir() and not any(out.iterdir()):
-            shutil.rmtree(out)  # a refused input leaves nothing behind
-        raise
-    written = write_walk_outputs(result, out, log_format=args.log_format)
+    with log_mujoco_messages(out):
+        try:
+            result = run_walk(spec, observer=observer)
+        except MpcwalkError:
+            if created and out.is_dir() and not any(out.iterdir()):
+                shutil.rmtree(out)  # a refused input leaves nothing behind
+            raise
+        written = write_walk_outputs(result, out, log_format=args.log_format)
     print(summary(result))
     m = result.metrics
     for warning in m.warnings:

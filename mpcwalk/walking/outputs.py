@@ -5,9 +5,11 @@ under the output folder.
 
 import json
 import os
+import sys
 import tempfile
 import traceback
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -121,18 +123,28 @@ def save_traceback(out: Path | None, error: BaseException) -> Path | None:
         return None
 
 
-def log_mujoco_messages(out: Path) -> None:
-    """Send MuJoCo's warnings to ``out/mujoco_log.txt`` instead of ``MUJOCO_LOG.TXT`` in the
-    working directory."""
+@contextmanager
+def log_mujoco_messages(out: Path) -> Iterator[Path]:
+    """Within the block, MuJoCo's warnings go to ``out/mujoco_log.txt`` instead of
+    ``MUJOCO_LOG.TXT`` in the working directory (to the standard error when that file cannot
+    be written); the previous handler is restored on leaving. Yields the log's path."""
     import mujoco
 
     log = out / MUJOCO_LOG_FILE
 
     def warn(message: str) -> None:
-        with open(log, "a", encoding="utf-8") as stream:
-            stream.write(f"WARNING: {message}\n")
+        try:
+            with open(log, "a", encoding="utf-8") as stream:
+                stream.write(f"WARNING: {message}\n")
+        except OSError:  # an exception here would abort the process inside MuJoCo
+            sys.stderr.write(f"MuJoCo warning: {message}\n")
 
+    previous = mujoco.get_mju_user_warning()
     mujoco.set_mju_user_warning(warn)
+    try:
+        yield log
+    finally:
+        mujoco.set_mju_user_warning(previous)
 
 
 def write_walk_outputs(result: Any, out: Path, *, log_format: str = "npz") -> list[Path]:
