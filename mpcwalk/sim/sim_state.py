@@ -63,7 +63,7 @@ class SimState:
     @property
     def base_tilt(self) -> float:
         """Angle between the base z axis and the world vertical [rad]."""
-        return float(np.arccos(np.clip(self.base_rotation[2, 2], -1.0, 1.0)))
+        return float(np.arccos(min(max(self.base_rotation[2, 2], -1.0), 1.0)))
 
     @property
     def sole_yaws(self) -> np.ndarray:
