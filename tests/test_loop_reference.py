@@ -3,8 +3,9 @@ shortcuts give what the general paths give.
 
 The reference values were printed by the loop before the per-tick changes (commit 769b7ca:
 stability check, joint targets to ``ctrl``, clip/outer as ufuncs, phase lookup, ZMP
-reference, ground truth's roll-pitch-yaw and DCM); a change of the order of floating-point
-operations would move them beyond the tolerance (1e-9 of the sums below, over 450 ticks).
+reference, ground truth's roll-pitch-yaw and DCM, contact wrenches without gathers); a
+change of the order of floating-point operations would move them beyond the tolerance (1e-9
+of the sums below, over 450 ticks).
 """
 
 import numpy as np
@@ -126,3 +127,27 @@ def test_bad_joint_targets_are_refused_at_the_simulation_boundary():
         sim.step(angles)
     with pytest.raises(ConfigurationError, match="Joint targets must have"):
         sim.step(angles[:-1])
+
+
+def test_contact_wrenches_of_all_contacts_equal_those_of_their_indices():
+    import mujoco
+
+    robot = get_robot("g1")
+    sim = Simulation(robot)
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        sim.step(robot.q0[7:] + rng.normal(0.0, 0.03, robot.model.nq - 7))
+    ncon = sim.data.ncon
+    assert ncon >= 4  # measured: 5 contacts
+    every = sim.contacts._contact_wrenches(sim.model, sim.data, None)
+    indexed = sim.contacts._contact_wrenches(sim.model, sim.data, np.arange(ncon))
+    expected = np.zeros((ncon, 6))
+    for i in range(ncon):
+        mujoco.mj_contactForce(sim.model, sim.data, i, expected[i])
+    np.testing.assert_array_equal(every, indexed)
+    np.testing.assert_allclose(every, expected, rtol=0.0, atol=1e-12)  # measured: 0.0
+    assert np.abs(every[:, 0]).sum() > 0.5 * weight_of(robot)  # measured: 401 N for 327 N
+
+
+def weight_of(robot) -> float:
+    return robot.total_mass * float(np.linalg.norm(robot.model.gravity.linear))
