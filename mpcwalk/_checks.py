@@ -13,7 +13,7 @@ def all_finite(arrays, scalars=()) -> bool:
         return False
     if not arrays:
         return True
-    return bool(np.isfinite(np.concatenate([np.ravel(array) for array in arrays])).all())
+    return bool(np.isfinite(np.concatenate(arrays, axis=None)).all())  # flattened
 
 
 def frozen_array(values, shape: tuple[int, ...] | None = None, dtype=float) -> np.ndarray:

@@ -256,7 +256,7 @@ class WalkingController:
         if self.feedforward is None:
             return q[7:].copy()
         acceleration = (v - previous_v) / self.control_period
-        if np.any(zmp_shift):  # DCM feedback: accelerate the whole body away from the shift
+        if zmp_shift.any():  # DCM feedback: accelerate the whole body away from the shift
             acceleration[0:3] += self.dcm_feedback.base_acceleration(q, zmp_shift)
         weights = support_weights(zmp, feet)
         return q[7:] + self.feedforward.compute_offsets(q, weights, v, acceleration)

@@ -142,5 +142,5 @@ class ServoFeedforward:
         torques = self.compute_torques(q, weights, v, a)
         if v is not None:
             torques += self.damping * v[6:]
-        torques = np.clip(torques, -self.torque_limit, self.torque_limit)
+        torques = np.minimum(np.maximum(torques, -self.torque_limit), self.torque_limit)
         return torques / self.stiffness

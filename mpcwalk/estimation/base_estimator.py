@@ -182,7 +182,7 @@ class BaseEstimator:
         if dt > 0.0:
             self._predict(state, acceleration, dt)
         world_feet = foot_positions @ rotation.T  # R p_foot, one row per foot
-        weights = np.where(in_contact, np.clip(loads, 0.0, 1.0), 0.0)
+        weights = np.where(in_contact, np.minimum(np.maximum(loads, 0.0), 1.0), 0.0)
         self._anchored &= in_contact
         self._frozen &= in_contact
         self._sums[~in_contact] = 0.0
@@ -244,8 +244,8 @@ class BaseEstimator:
         """Kalman update with a measurement of the position (row 0) or velocity (row 1)."""
         covariance = self._covariance
         gain = covariance[:, row] / (covariance[row, row] + variance)
-        state += np.outer(gain, measured - state[row])
-        self._covariance = covariance - np.outer(gain, covariance[row, :])
+        state += gain[:, None] * (measured - state[row])[None, :]  # outer products
+        self._covariance = covariance - gain[:, None] * covariance[row, :][None, :]
 
     def _checked_state(self) -> np.ndarray:
         if self._state is None:

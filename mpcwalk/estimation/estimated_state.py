@@ -101,7 +101,7 @@ class EstimatedState:
     @property
     def base_tilt(self) -> float:
         """Angle between the base z axis and the world vertical [rad]."""
-        return float(np.arccos(np.clip(self.base_rotation[2, 2], -1.0, 1.0)))
+        return float(np.arccos(min(max(self.base_rotation[2, 2], -1.0), 1.0)))
 
     def com_state(self) -> ComState:
         """Horizontal CoM state for a pattern generator (acceleration left unknown)."""

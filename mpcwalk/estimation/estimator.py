@@ -291,7 +291,9 @@ class Estimator:
         each foot weighted by its load and by how far its CoP is from the sole's edges (a
         foot rolling on an edge is not flat)."""
         edge = np.max(np.abs(points[:, :2]) / self._half_sole[:2], axis=1)
-        weights = np.clip(forces / self.weight, 0.0, 1.0) * np.clip((1.0 - edge) / 0.2, 0.0, 1.0)
+        weights = np.minimum(np.maximum(forces / self.weight, 0.0), 1.0) * np.minimum(
+            np.maximum((1.0 - edge) / 0.2, 0.0), 1.0
+        )
         total = float(weights.sum())
         if total < 0.3:
             return self.attitude.rotation
@@ -335,7 +337,7 @@ class Estimator:
                 torque = wrench.torque
                 points[foot, 0] = -float(torque[1]) / forces[foot]
                 points[foot, 1] = float(torque[0]) / forces[foot]
-        np.clip(points, -self._half_sole, self._half_sole, out=points)
+        np.minimum(np.maximum(points, -self._half_sole, out=points), self._half_sole, out=points)
         return points
 
     @staticmethod

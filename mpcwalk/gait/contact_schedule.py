@@ -262,7 +262,7 @@ class ContactSchedule:
     def phase_index(self, times) -> np.ndarray:
         """Index into :attr:`phases` of each time (clamped to the schedule)."""
         idx = np.searchsorted(self._phase_starts, np.asarray(times, dtype=float), side="right") - 1
-        return np.clip(idx, 0, len(self.phases) - 1)
+        return np.maximum(idx, 0)  # searchsorted gives at most len(phases): idx <= len - 1
 
     def phase_at(self, t: float) -> int:
         """Index into :attr:`phases` of the scalar time ``t`` [s] (clamped to the schedule);

@@ -157,4 +157,4 @@ class MpcGenerator(RecedingHorizonGenerator):
         if transition is None or transition[0] != dt:
             transition = self.__dict__["_transition"] = (dt, *self.cart_table.transition(dt))
         _, A, B = transition
-        return A @ x0 + np.outer(B, jerks[0])
+        return A @ x0 + B[:, None] * np.ravel(jerks[0])  # B (3,): the outer product

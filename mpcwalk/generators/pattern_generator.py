@@ -321,7 +321,7 @@ class PatternGenerator(ABC):
 
 def _dcm_error(value) -> np.ndarray:
     error = np.asarray(value, dtype=float)
-    if error.shape != (2,) or not np.all(np.isfinite(error)):
+    if error.shape != (2,) or not np.isfinite(error).all():
         raise ConfigurationError(
             f"dcm_error must be 2 finite numbers (x, y) in metres, got {value!r}."
         )

@@ -224,7 +224,7 @@ class RecedingHorizonGenerator(PatternGenerator):
 
 def _implausible(qp: QuadraticProgram, x: np.ndarray, jerk_limit: float) -> str | None:
     """Why the solution ``x`` of ``qp`` cannot be used, or None."""
-    if x.ndim != 1 or not np.all(np.isfinite(x)):
+    if x.ndim != 1 or not np.isfinite(x).all():
         return "not a finite vector"
     try:
         jerks = qp.jerks(x)

@@ -164,13 +164,13 @@ class WholeBodyIK:
                 "IKTargets(com, left_sole, right_sole, torso_rotation)."
             )
         q = np.asarray(q, dtype=float)
-        if q.shape != (self.model.nq,) or not np.all(np.isfinite(q)):
+        if q.shape != (self.model.nq,) or not np.isfinite(q).all():
             raise ConfigurationError(
                 f"q must be {self.model.nq} finite numbers (robot '{self.robot.name}'), got "
                 f"shape {q.shape}."
             )
         dt = as_float(dt)
-        if not (np.isfinite(dt) and dt > 0.0):
+        if not (math.isfinite(dt) and dt > 0.0):
             raise ConfigurationError(f"dt must be a positive number of seconds, got {dt!r}.")
         return q, dt
 
@@ -255,8 +255,8 @@ class WholeBodyIK:
             if (xj >= lower).all() and (xj <= upper).all():
                 return x, "unconstrained", False, posture_error
         solution = self._solve_qp(H, c, lower, upper)
-        if solution is not None and np.all(np.isfinite(solution)):
-            solution[joints] = np.clip(solution[joints], lower, upper)  # solver tolerances
+        if solution is not None and np.isfinite(solution).all():
+            solution[joints] = np.minimum(np.maximum(solution[joints], lower), upper)  # tolerances
             return solution, "qp", True, posture_error
         if finite:
             x[joints] = np.clip(x[joints], lower, upper)

@@ -105,13 +105,10 @@ class ScheduleTables:
     def zmp_reference(self, times: np.ndarray) -> np.ndarray:
         """Same values as ``ContactSchedule.zmp_reference``, by interpolation;
         shape (n, 2), in [m]."""
-        return np.stack(
-            [
-                np.interp(times, self.knots, self.zmp_knots[:, 0]),
-                np.interp(times, self.knots, self.zmp_knots[:, 1]),
-            ],
-            axis=1,
-        )
+        out = np.empty((len(times), 2))
+        out[:, 0] = np.interp(times, self.knots, self.zmp_knots[:, 0])
+        out[:, 1] = np.interp(times, self.knots, self.zmp_knots[:, 1])
+        return out
 
 
 @dataclass(frozen=True)

@@ -144,7 +144,7 @@ class WalkingQP:
             Whether matrix values (``A`` or ``P``) changed.
         """
         x0 = np.asarray(x0, dtype=float)
-        if x0.shape != (3, 2) or not np.all(np.isfinite(x0)):
+        if x0.shape != (3, 2) or not np.isfinite(x0).all():
             raise ConfigurationError(
                 "WalkingQP.update expects x0 of shape (3, 2) (rows position, velocity, "
                 f"acceleration; columns x, y) with finite values, got shape {x0.shape}."
@@ -255,7 +255,7 @@ class WalkingQP:
         if value is None:
             return None
         arr = np.asarray(value, dtype=float)
-        if arr.shape != (self.N, 2) or not np.all(np.isfinite(arr)):
+        if arr.shape != (self.N, 2) or not np.isfinite(arr).all():
             raise ConfigurationError(
                 f"{name} must have shape ({self.N}, 2) (one (x, y) per sample) with "
                 f"finite values, got shape {arr.shape}."

@@ -31,6 +31,8 @@ from mpcwalk.robot.preset import RobotPreset
 if TYPE_CHECKING:
     import mujoco
 
+_XYZW = np.array([1, 2, 3, 0])  # MuJoCo's quaternion (w, x, y, z) -> Pinocchio's (x, y, z, w)
+
 
 @dataclass(frozen=True)
 class ServoGains:
@@ -190,7 +192,7 @@ class Robot:
         q = np.zeros(self.model.nq)
         q[0:3] = qpos[0:3]
         quat = np.asarray(qpos[3:7], dtype=float)
-        q[3:7] = np.array([quat[1], quat[2], quat[3], quat[0]]) / np.linalg.norm(quat)
+        q[3:7] = quat[_XYZW] / math.sqrt(quat.dot(quat))  # what np.linalg.norm computes
         q[self._q_index] = qpos[self._qpos_index]
         return q
 
@@ -206,7 +208,8 @@ class Robot:
     def qvel_to_v(self, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
         """MuJoCo ``qvel`` at ``qpos`` -> Pinocchio velocity (base linear velocity to local)."""
         v = np.zeros(self.model.nv)
-        w, x, y, z = np.asarray(qpos[3:7], dtype=float) / np.linalg.norm(qpos[3:7])
+        quat = np.asarray(qpos[3:7], dtype=float)
+        w, x, y, z = quat / math.sqrt(quat.dot(quat))
         rotation = pin.Quaternion(w, x, y, z).matrix()
         v[0:3] = rotation.T @ qvel[0:3]
         v[3:6] = qvel[3:6]

@@ -96,8 +96,9 @@ class ContactWrenches:
         on_geom2 = feet_of[:, 1] >= 0  # the force on geom2 is along +normal
         foot = np.where(on_geom2, feet_of[:, 1], feet_of[:, 0])  # -1: not a foot's contact
         keep = (foot >= 0) & (contacts.efc_address[:ncon] >= 0) & (contacts.exclude[:ncon] == 0)
+        index: np.ndarray | None
         if keep.all():  # the usual case: every contact is a sole's, in the solver
-            index = np.arange(ncon)
+            index = None  # all of them, in order
             frames = contacts.frame[:ncon].reshape(-1, 3, 3)  # rows: normal, tangents
             points = contacts.pos[:ncon]
         else:
@@ -135,7 +136,7 @@ class ContactWrenches:
         return feet[0], feet[1], cop, has_cop
 
     def _contact_wrenches(
-        self, model: mujoco.MjModel, data: mujoco.MjData, index: np.ndarray
+        self, model: mujoco.MjModel, data: mujoco.MjData, index: np.ndarray | None
     ) -> np.ndarray:
         """Wrenches of the contacts ``index`` in their contact frames, shape (n, 6): what
         ``mj_contactForce`` gives, decoded from ``efc_force`` for all of them at once.
@@ -144,25 +145,31 @@ class ContactWrenches:
         decoded in one go: a pyramidal cone's four edge forces ``f`` give the normal force
         ``sum f`` and the frictional ones ``mu_i (f_2i - f_2i+1)`` (``mju_decodePyramid``);
         an elliptic cone's rows are the forces. Others go through ``mj_contactForce``.
+        ``index`` None: every contact, in order (no gathers).
         """
-        contacts = data.contact
-        wrenches = np.zeros((len(index), 6))
-        three = contacts.dim[index] == 3
+        contacts, ncon = data.contact, data.ncon
+        dim = contacts.dim[:ncon] if index is None else contacts.dim[index]
+        wrenches = np.zeros((len(dim), 6))
+        three = dim == 3
+        others: np.ndarray | tuple[()] = ()
         if three.all():  # the feet's contacts: no masks
-            rows, frictional, selected = contacts.efc_address[index], index, slice(None)
+            selected: slice | np.ndarray = slice(None)
+            if index is None:
+                rows, friction = contacts.efc_address[:ncon], contacts.friction[:ncon]
+            else:
+                rows, friction = contacts.efc_address[index], contacts.friction[index]
         else:
-            rows, frictional, selected = contacts.efc_address[index[three]], index[three], three
+            index = np.arange(ncon) if index is None else index
+            rows, friction = contacts.efc_address[index[three]], contacts.friction[index[three]]
+            selected, others = three, np.flatnonzero(~three)
         if self._pyramidal:
             edges = data.efc_force[rows[:, None] + _EDGES]
             wrenches[selected, 0] = edges.sum(axis=1)
-            wrenches[selected, 1:3] = contacts.friction[frictional, :2] * (
-                edges[:, 0::2] - edges[:, 1::2]
-            )
+            wrenches[selected, 1:3] = friction[:, :2] * (edges[:, 0::2] - edges[:, 1::2])
         else:
             wrenches[selected, :3] = data.efc_force[rows[:, None] + _EDGES[:3]]
-        others = np.flatnonzero(~three)
         for row in others:
-            mujoco.mj_contactForce(model, data, int(index[row]), wrenches[row])
+            mujoco.mj_contactForce(model, data, int(index[row]), wrenches[row])  # type: ignore[index]
         self._moments = True if len(others) else None
         return wrenches
 

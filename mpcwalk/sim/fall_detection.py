@@ -93,7 +93,7 @@ class FallDetector:
 
     def check(self, state: SimState) -> FallStatus:
         """Whether the robot in ``state`` has fallen, and why."""
-        if not (np.all(np.isfinite(state.q)) and np.all(np.isfinite(state.v))):
+        if not (np.isfinite(state.q).all() and np.isfinite(state.v).all()):
             return FallStatus(True, "the simulation state is not finite", state.time)
         ground = self.ground_height(state)
         height = float(state.base_position[2]) - ground

@@ -50,7 +50,7 @@ class GroundTruth:
         adjacent = self._gyro.stop == self._accelerometer.start
         self._imu = slice(self._gyro.start, self._accelerometer.stop) if adjacent else None
         self._sites = list(self.contacts.site_ids)
-        self._lipm = LIPM(com_height=robot.com_height)
+        self._omega = LIPM(com_height=robot.com_height).omega  # [1/s] of the DCM
         self.imu_mean: np.ndarray | None = None
         """Gyroscope and accelerometer readings averaged over the last control period,
         shape (6,), or None for the instantaneous ones. A MEMS IMU read at the control rate
@@ -116,7 +116,7 @@ class GroundTruth:
             has_cop=has_cop,
             com=com,
             com_velocity=com_velocity,
-            dcm=freeze(self._lipm.dcm(com[:2], com_velocity[:2])),
+            dcm=freeze(com[:2] + com_velocity[:2] / self._omega),  # LIPM.dcm
             joint_positions=q[7:],
             joint_velocities=v[6:],
             sole_positions=sole_positions,

@@ -22,7 +22,7 @@ from mpcwalk.robot.sensors import SensorReadings
 
 def quaternion_to_rpy(quaternion_wxyz: np.ndarray) -> tuple[float, float, float]:
     """Roll, pitch, yaw [rad] (Z-Y-X Euler angles) of a unit quaternion (w, x, y, z)."""
-    w, x, y, z = (float(c) for c in quaternion_wxyz)
+    w, x, y, z = np.asarray(quaternion_wxyz, dtype=float).tolist()
     norm2 = w * w + x * x + y * y + z * z
     roll = math.atan2(2.0 * (w * x + y * z), norm2 - 2.0 * (x * x + y * y))
     pitch = math.asin(max(-1.0, min(1.0, 2.0 * (w * y - z * x) / norm2)))
@@ -63,7 +63,7 @@ class SimState:
     @property
     def base_tilt(self) -> float:
         """Angle between the base z axis and the world vertical [rad]."""
-        return float(np.arccos(np.clip(self.base_rotation[2, 2], -1.0, 1.0)))
+        return float(np.arccos(min(max(self.base_rotation[2, 2], -1.0), 1.0)))
 
     @property
     def sole_yaws(self) -> np.ndarray:

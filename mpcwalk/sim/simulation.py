@@ -33,6 +33,17 @@ _UNSTABLE_WARNINGS = (
     mujoco.mjtWarning.mjWARN_BADQPOS,
     mujoco.mjtWarning.mjWARN_BADQVEL,
 )
+_UNSTABLE_INDEX = np.array([int(w) for w in _UNSTABLE_WARNINGS])
+
+
+def _ctrl_joint_index(robot: Robot) -> np.ndarray | None:
+    """The joint (``robot.joint_names`` order) each actuator's ``ctrl`` holds, so that
+    ``ctrl = joint_angles[index]`` is ``robot.q_to_ctrl`` of those angles; None when an
+    actuator holds something else than a joint slot of the configuration."""
+    probe = robot.q_to_ctrl(np.arange(1.0, robot.model.nq + 1.0))  # q[i] = i + 1
+    if probe.size == 0 or not np.all(probe >= 8.0):  # the joints start at q[7]
+        return None
+    return probe.astype(int) - 8
 
 
 def make_mj_data(robot: Robot, q: np.ndarray | None = None) -> mujoco.MjData:
@@ -148,6 +159,7 @@ class Simulation:
             self.add_push(push)
         self._substep = 0
         self._state: SimState | None = None
+        self._ctrl_joints = _ctrl_joint_index(robot)
         self.reset()
 
     @property
@@ -296,25 +308,26 @@ class Simulation:
         targets = np.asarray(joint_targets, dtype=float)
         nq = self.robot.model.nq
         if targets.shape == (nq,):
-            q = targets
+            joints = targets[7:]
         elif targets.shape == (nq - 7,):
-            q = np.concatenate([self.robot.q0[:7], targets])
+            joints = targets
         else:
             raise ConfigurationError(
                 f"Joint targets must have {nq - 7} joint angles (robot.joint_names order) or "
                 f"be a configuration of size {nq}; got shape {targets.shape}."
             )
-        if not np.all(np.isfinite(q[7:])):
+        if not np.isfinite(joints).all():
             raise ConfigurationError(
                 "Joint targets must be finite, got NaN or infinite angles for "
-                f"{[n for n, a in zip(self.robot.joint_names, q[7:]) if not np.isfinite(a)]}; "
+                f"{[n for n, a in zip(self.robot.joint_names, joints) if not np.isfinite(a)]}; "
                 "check the IK output."
             )
-        return self.robot.q_to_ctrl(q)
+        if self._ctrl_joints is not None:  # one gather, as q_to_ctrl of the same angles
+            return joints[self._ctrl_joints]
+        return self.robot.q_to_ctrl(np.concatenate([self.robot.q0[:7], joints]))
 
     def _check_stable(self, time: float) -> None:
-        warnings = self.data.warning
-        if any(warnings[w].number > 0 for w in _UNSTABLE_WARNINGS):
+        if self.data.warning.number[_UNSTABLE_INDEX].any():
             raise SimulationUnstable(time, self.timestep)
 
     def _compute_state(self, *, first: bool = False) -> SimState:

@@ -47,7 +47,6 @@ side). A CoM offset moves into the estimate, out of the DCM feedback and its int
 """
 
 import math
-from dataclasses import replace
 
 import numpy as np
 
@@ -190,7 +189,8 @@ class BalanceStabilizer(Stabilizer):
             if cop is not None:
                 error = self._to_heading(cop - planned)
                 estimator.update(error, np.zeros(2), inputs.dcm_error, inputs.control_period)
-        return replace(targets, com_xy=np.asarray(targets.com_xy) - self.com_offset)
+        com_xy = np.asarray(targets.com_xy) - self.com_offset  # (dataclasses.replace is slow)
+        return GaitTargets(targets.feet, com_xy, targets.torso_yaw, targets.flywheel)
 
     def adjust_joint_targets(
         self, inputs: StabilizerInput, joint_targets: np.ndarray
