@@ -34,7 +34,7 @@ import pinocchio as pin
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.ik.contact_wrench import CONE_ROWS, cone_bounds, wrench_cone
-from mpcwalk.ik.delay_margin import delay_limited_frequency
+from mpcwalk.ik.delay_margin import PHASE_MARGIN, TASK_MARGIN, delay_limited_frequency
 from mpcwalk.ik.dynamics_program import DynamicsProgram
 from mpcwalk.ik.dynamics_targets import (
     DynamicsGains,
@@ -81,7 +81,8 @@ class InverseDynamicsQP:
         state_delay: Age [s] of the state the torques act on: the posture frequency is then
             capped to keep a 60 deg phase margin with the damping of the least damped joint
             (:func:`~mpcwalk.ik.delay_margin.delay_limited_frequency`: the joints shake
-            one another through the body); None: ``gains.posture``.
+            one another through the body), those of the swing soles and the torso to keep
+            :data:`~mpcwalk.ik.delay_margin.TASK_MARGIN`; None: the gains unchanged.
 
     Raises:
         SolverNotFound: ``solver`` is not installed.
@@ -125,12 +126,22 @@ class InverseDynamicsQP:
         self.torso_frame = torso_frame or robot.torso_frame
         self.torso_id = robot.frame_id(self.torso_frame)
         omega = np.full(self.nj, float(gains.posture))
-        if state_delay is not None and gains.posture > 0.0:  # damping rate b / M_jj at q0
+        swing, torso = float(gains.swing_foot), float(gains.torso)
+        if state_delay is not None:  # damping rate b / M_jj at q0 of the least damped joint
             inertia = np.diag(pin.crba(model, self.data, robot.q0))[6:]
-            rate = float(np.min(np.asarray(model.damping[6:], dtype=float) / inertia))
-            omega[:] = delay_limited_frequency(gains.posture, np.array([rate]), state_delay)
+            rate = np.array([np.min(np.asarray(model.damping[6:], dtype=float) / inertia)])
+
+            def cap(bound: float, margin: float) -> float:
+                if bound <= 0.0:
+                    return bound
+                return float(delay_limited_frequency(bound, rate, state_delay, margin=margin)[0])
+
+            omega[:] = cap(float(gains.posture), PHASE_MARGIN)
+            swing, torso = cap(swing, TASK_MARGIN), cap(torso, TASK_MARGIN)
         self.posture_frequencies = omega
         """Natural frequency [rad/s] of each joint's posture PD, shape (nv - 6,)."""
+        self.swing_frequency, self.torso_frequency = swing, torso
+        """Natural frequencies [rad/s] of the swing soles' and the torso's PD."""
         self.solver_name = solver
         self.solver = make_solver(solver, **dict(solver_settings or {}))
         self._programs: dict[tuple[bool, bool], DynamicsProgram] = {}
@@ -217,7 +228,7 @@ class InverseDynamicsQP:
             + kd * (targets.com_velocity - com_velocity)
         )
         rows.append((com_jacobian, desired - dAg[:3] @ v / self.mass, weights.com))
-        kp, kd = gains.pd(gains.swing_foot)
+        kp, kd = gains.pd(self.swing_frequency)
         for i, frame_id in enumerate(self.sole_ids):
             if contacts[i]:
                 continue
@@ -238,7 +249,7 @@ class InverseDynamicsQP:
             )
             rows.append((jacobian, desired - drift, weights.swing_foot))
         jacobian, drift = self._frame(self.torso_id, _LWA)
-        kp, kd = gains.pd(gains.torso)
+        kp, kd = gains.pd(self.torso_frequency)
         rotation = data.oMf[self.torso_id].rotation
         error = pin.log3(targets.torso_rotation @ rotation.T)
         angular = jacobian[3:] @ v
