@@ -223,3 +223,37 @@ def test_inverse_dynamics_caps_the_posture_of_a_late_state():
     # sets one frequency for all
     servo = InverseDynamicsQP(get_robot("bioloid-like"), state_delay=0.0306)
     assert np.allclose(servo.posture_frequencies, 8.18, atol=0.01)
+
+
+def _delayed_pd_response(omega, delay, *, dt=1e-4, duration=2.0):
+    """Largest |error| [m] over the last second of a double integrator closed by the PD of
+    natural frequency ``omega`` [rad/s] on its state ``delay`` [s] old, from a 1 m error."""
+    lag = round(delay / dt)
+    x, v = np.zeros(round(duration / dt) + lag), np.zeros(round(duration / dt) + lag)
+    x[: lag + 1] = 1.0
+    for k in range(lag, len(x) - 1):
+        a = -(omega**2) * x[k - lag] - 2.0 * omega * v[k - lag]
+        v[k + 1] = v[k] + a * dt
+        x[k + 1] = x[k] + v[k + 1] * dt
+    return float(np.abs(x[-round(1.0 / dt) :]).max())
+
+
+def test_swing_and_torso_frequencies_keep_a_margin_on_a_late_state():
+    from mpcwalk.ik.delay_margin import TASK_MARGIN
+
+    delay = 0.0306  # the estimator's state (talos mpc-steps and atlas-like mpc-steps fell)
+    talos = get_robot("talos")
+    late = InverseDynamicsQP(talos, state_delay=delay)
+    assert late.swing_frequency == pytest.approx(17.0, abs=0.01)  # from 25 rad/s
+    assert late.torso_frequency == 15.0  # 22 deg of margin already
+    assert _swept_margin(late.swing_frequency, 0.0, delay) == pytest.approx(
+        np.degrees(TASK_MARGIN), abs=0.05
+    )
+    assert _swept_margin(25.0, 0.0, delay) < 0.0  # the swing's default: -14 deg
+    # the default rings up (the swing foot shook the stance foot loose), the capped one settles
+    assert _delayed_pd_response(25.0, delay) > 1.0  # measured 2.6e3 m (from 1 m)
+    assert _delayed_pd_response(late.swing_frequency, delay) < 1e-2  # measured 7.2e-4 m
+    exact = InverseDynamicsQP(talos, state_delay=0.01)  # the simulator's exact state
+    assert (exact.swing_frequency, exact.torso_frequency) == (25.0, 15.0)
+    default = InverseDynamicsQP(talos)
+    assert (default.swing_frequency, default.torso_frequency) == (25.0, 15.0)
