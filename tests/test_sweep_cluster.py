@@ -7,11 +7,17 @@ another file's local Ray instance under ``pytest -n 2``."""
 
 import pytest
 
+from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.experiments.scaling import (
+    ThroughputRun,
+    measure_throughput,
+    scaling_text,
+    summary_rows,
+)
 from mpcwalk.sweep import Sweep, local_cluster, read_rows, run_sweep, shutdown
 
-pytestmark = pytest.mark.slow
 
-
+@pytest.mark.slow
 def test_a_sweep_on_a_two_node_cluster_runs_on_both_nodes(tmp_path):
     """Four one-step walks given to the engine with the cluster's address (a head and a
     worker node, one CPU each): every walk has its row, none fell, and the rows' Ray node ids
@@ -44,3 +50,39 @@ def test_a_sweep_on_a_two_node_cluster_runs_on_both_nodes(tmp_path):
     assert {row["node"] for row in run.rows} == set(nodes)
     table = read_rows(tmp_path / "results.csv")
     assert [row["node"] for row in table] == [row["node"] for row in run.rows]
+
+
+def run(place: str, workers: int, sweep_s: float, repeat: int = 0) -> ThroughputRun:
+    return ThroughputRun(
+        place, workers, repeat, 32, 0, workers, 3.0, sweep_s, 0.8 * sweep_s * workers
+    )
+
+
+def test_the_throughput_summary_takes_medians_and_ratios():
+    """Walks a minute (per core), the speed-up over one worker at the same place and the
+    local instance's sweep time over the cluster's, from the medians of the repetitions."""
+    runs = [run("local", 1, t, i) for i, t in enumerate((20.0, 22.0, 30.0))]
+    runs += [run("local", 2, 11.0), run("cluster", 1, 24.0), run("cluster", 2, 16.0)]
+    rows = {(r["place"], r["workers"]): r for r in summary_rows(runs)}
+    local1, local2, cluster2 = rows["local", 1], rows["local", 2], rows["cluster", 2]
+    assert local1["repeats"] == 3 and local1["sweep_s"] == 22.0
+    assert local2["per_minute"] == pytest.approx(60 * 32 / 11.0)
+    assert local2["per_minute_per_core"] == pytest.approx(30 * 32 / 11.0)
+    assert local2["speed_up"] == pytest.approx(2.0) and cluster2["speed_up"] == 1.5
+    assert cluster2["local_over_this"] == pytest.approx(11.0 / 16.0)
+    assert cluster2["busy_share"] == pytest.approx(0.8)
+    text = scaling_text(runs, command="mpcwalk experiment scaling robustness", what="32 walks")
+    assert (
+        "| local cluster (one node per worker) | 2 | 32 | 2 | 3.0 | 16.0 | 120.0 | 60.0 |" in text
+    )
+
+
+def test_the_throughput_measurement_refuses_bad_input_before_ray_starts(monkeypatch):
+    sweep = Sweep("none", (), str, ())
+    with pytest.raises(ConfigurationError, match="places among"):
+        measure_throughput(sweep, places=("remote",))
+    with pytest.raises(ConfigurationError, match="positive integer"):
+        measure_throughput(sweep, workers=(0,))
+    monkeypatch.setenv("RAY_ADDRESS", "ray://head:10001")
+    with pytest.raises(ConfigurationError, match="RAY_ADDRESS is set.*unset it"):
+        measure_throughput(sweep)
