@@ -128,8 +128,8 @@ def test_walk_specifications_are_the_cases_of_a_sweep(tmp_path):
 
 
 def test_a_table_of_older_columns_is_rewritten_under_the_new_ones(tmp_path):
-    """A table written before the engine's ``node`` column (the same configuration) is
-    rewritten with it, its rows kept and the new cell empty; the missing cases then run
+    """A table written before the engine's ``cpu_time_s`` and ``node`` columns (the same
+    configuration) is rewritten with them, its rows kept and the new cells empty; the missing cases then run
     into it, and the finished table has every column."""
     from mpcwalk.sweep.table import ResultsTable
 
@@ -143,11 +143,14 @@ def test_a_table_of_older_columns_is_rewritten_under_the_new_ones(tmp_path):
         case_ids=[c.case_id for c in CASES],
         columns=columns,
     )
-    old = ",".join(columns[:-1]) + "\nv16-s0,16.0,0,4.0,16000.0,,0.5,host:1\n"
+    before = [c for c in columns if c not in ("cpu_time_s", "node")]
+    old = ",".join(before) + "\nv16-s0,16.0,0,4.0,16000.0,,0.5,host:1\n"
     (tmp_path / "results.csv").write_text(old)
     run = run_sweep(sweep(), tmp_path, workers=1, progress=False)
     assert run.nb_resumed == 1 and run.nb_run == 9 and run.complete
     rows = read_rows(tmp_path / "results.csv")
     assert list(rows[0]) == columns
-    assert rows[0]["worker"] == "host:1" and rows[0]["node"] is None and rows[0]["root"] == 4.0
+    assert rows[0]["worker"] == "host:1" and rows[0]["root"] == 4.0
+    assert rows[0]["node"] is None and rows[0]["cpu_time_s"] is None
     assert all(isinstance(row["node"], str) and len(row["node"]) == 56 for row in rows[1:])
+    assert all(0.0 <= row["cpu_time_s"] < 5.0 for row in rows[1:])

@@ -48,14 +48,14 @@ def test_a_sweep_on_a_two_node_cluster_runs_on_both_nodes(tmp_path):
         assert row["error"] is None and row["fell"] is False
         assert row["steps_completed"] == row["steps_planned"] == 2
     assert {row["node"] for row in run.rows} == set(nodes)
+    assert all(0.0 < row["cpu_time_s"] for row in run.rows)
     table = read_rows(tmp_path / "results.csv")
     assert [row["node"] for row in table] == [row["node"] for row in run.rows]
 
 
 def run(place: str, workers: int, sweep_s: float, repeat: int = 0) -> ThroughputRun:
-    return ThroughputRun(
-        place, workers, repeat, 32, 0, workers, 3.0, sweep_s, 0.8 * sweep_s * workers
-    )
+    busy = 0.8 * sweep_s * workers
+    return ThroughputRun(place, workers, repeat, 32, 0, workers, 3.0, sweep_s, busy, 0.5 * busy)
 
 
 def test_the_throughput_summary_takes_medians_and_ratios():
@@ -70,11 +70,13 @@ def test_the_throughput_summary_takes_medians_and_ratios():
     assert local2["per_minute_per_core"] == pytest.approx(30 * 32 / 11.0)
     assert local2["speed_up"] == pytest.approx(2.0) and cluster2["speed_up"] == 1.5
     assert cluster2["local_over_this"] == pytest.approx(11.0 / 16.0)
-    assert cluster2["busy_share"] == pytest.approx(0.8)
+    assert cluster2["busy_share"] == pytest.approx(0.8) and cluster2["cpu_share"] == 0.5
+    assert cluster2["per_cpu_minute"] == pytest.approx(60 * 32 / (0.5 * 0.8 * 16.0 * 2))
     text = scaling_text(runs, command="mpcwalk experiment scaling robustness", what="32 walks")
-    assert (
-        "| local cluster (one node per worker) | 2 | 32 | 2 | 3.0 | 16.0 | 120.0 | 60.0 |" in text
+    row = (
+        "| local cluster (one node per worker) | 2 | 2 | 3.0 | 16.0 | 120.0 | 60.0 | 1.50 | 0.80 |"
     )
+    assert row + " 150.0 | 0.50 | 0.69 |" in text
 
 
 def test_the_throughput_measurement_refuses_bad_input_before_ray_starts(monkeypatch):

@@ -62,13 +62,14 @@ def add_parser(sub) -> argparse.ArgumentParser:
     scaling.add_argument("--out", type=Path, required=True, help="output folder")
     scaling.add_argument("--quick", action="store_true", help="the small variant's cases")
     scaling.add_argument(
-        "--workers", type=int, nargs="+", default=[1, 2], help="numbers of workers (1 2)"
+        "--workers", type=int, nargs="+", default=[1, 2], help="numbers of workers"
     )
     scaling.add_argument(
         "--places",
         nargs="+",
         default=["local", "cluster"],
-        help="local (a local Ray instance) and/or cluster (a local cluster)",
+        choices=["local", "cluster"],
+        help="where: a local Ray instance (local), a local cluster (cluster)",
     )
     scaling.add_argument("--repeats", type=int, default=1, help="runs of each (the median)")
     scaling.set_defaults(run=run_scaling)
@@ -136,8 +137,11 @@ def run_scaling(args: argparse.Namespace) -> int:
 
     from mpcwalk.experiments.catalog import EXPERIMENTS
     from mpcwalk.experiments.scaling import machine_words, measure_throughput, write_scaling
+    from mpcwalk.sweep.cluster import check_workers
 
     experiment = EXPERIMENTS.load(args.name)
+    for count in (*args.workers, args.repeats):
+        check_workers(count)
     config = experiment.config(quick=args.quick)
     experiment.check(config)
     sweep = experiment.sweep(config)

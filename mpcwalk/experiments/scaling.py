@@ -53,6 +53,7 @@ class ThroughputRun:
         start_s: Ray's start: the instance, or the cluster's nodes and the connection [s].
         sweep_s: Wall time of the sweep once Ray is up [s].
         busy_s: Sum of the cases' wall times in the workers [s].
+        cpu_s: Sum of the cases' processor times in the workers [s].
     """
 
     place: str
@@ -64,6 +65,7 @@ class ThroughputRun:
     start_s: float
     sweep_s: float
     busy_s: float
+    cpu_s: float
 
     @property
     def per_minute(self) -> float:
@@ -74,6 +76,18 @@ class ThroughputRun:
     def per_minute_per_core(self) -> float:
         """Cases a minute and a core (a worker)."""
         return self.per_minute / self.workers
+
+    @property
+    def per_cpu_minute(self) -> float:
+        """Cases a minute of the workers' processor time in them: the throughput of a core
+        of one's own, whatever else ran on the machine."""
+        return 60.0 * self.cases / self.cpu_s
+
+    @property
+    def cpu_share(self) -> float:
+        """Share of the cases' wall time their worker spent on a processor (below 1: the
+        core was shared, with another worker or other work)."""
+        return self.cpu_s / self.busy_s
 
     @property
     def busy_share(self) -> float:
@@ -139,6 +153,7 @@ def _measure(sweep: Sweep, place: str, workers: int, repeat: int, progress: bool
         start_s=started,
         sweep_s=run.wall_time_s,
         busy_s=sum(float(row.get("wall_time_s") or 0.0) for row in run.rows),
+        cpu_s=sum(float(row.get("cpu_time_s") or 0.0) for row in run.rows),
     )
 
 
@@ -168,6 +183,8 @@ def summary_rows(runs: Sequence[ThroughputRun]) -> list[dict[str, Any]]:
                 "per_minute": med("per_minute"),
                 "per_minute_per_core": med("per_minute_per_core"),
                 "busy_share": med("busy_share"),
+                "per_cpu_minute": med("per_cpu_minute"),
+                "cpu_share": med("cpu_share"),
             }
         )
     for row in rows:
@@ -182,7 +199,6 @@ def summary_rows(runs: Sequence[ThroughputRun]) -> list[dict[str, Any]]:
 _COLUMNS = (
     ("place_words", "where", 0),
     ("workers", "workers", 0),
-    ("cases", "walks", 0),
     ("nodes", "nodes used", 0),
     ("start_s", "Ray's start [s]", 1),
     ("sweep_s", "sweep [s]", 1),
@@ -190,6 +206,8 @@ _COLUMNS = (
     ("per_minute_per_core", "walks/min/core", 1),
     ("speed_up", "speed-up", 2),
     ("busy_share", "busy share", 2),
+    ("per_cpu_minute", "walks/CPU-min", 1),
+    ("cpu_share", "CPU share", 2),
     ("local_over_this", "local/this (sweep time)", 2),
 )
 
@@ -209,7 +227,10 @@ def scaling_text(runs: Sequence[ThroughputRun], *, command: str, what: str) -> s
         "workers' start, their imports and robot loads, the walks and the rows coming back. "
         "Walks/min/core: walks a minute of the sweep's time, divided by the workers; "
         "speed-up: over 1 worker at the same place; busy share: the walks' own time over "
-        "the workers' time; local/this: the local instance's sweep time over this one's."
+        "the workers' time; walks/CPU-min: walks a minute of the processor time the "
+        "workers spent in them (what a core of one's own would give); CPU share: that "
+        "processor time over the walks' wall time (below 1: the core was shared); "
+        "local/this: the local instance's sweep time over this one's."
         f"{' Rows with an error: ' + str(errors) + '.' if errors else ''}\n\n"
         + table(rows, _COLUMNS)
     )
@@ -254,6 +275,8 @@ def write_scaling(
                 "per_minute": run.per_minute,
                 "per_minute_per_core": run.per_minute_per_core,
                 "busy_share": run.busy_share,
+                "per_cpu_minute": run.per_cpu_minute,
+                "cpu_share": run.cpu_share,
             }
             for run in runs
         ],

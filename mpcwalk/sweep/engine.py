@@ -30,11 +30,12 @@ from mpcwalk.sweep.cluster import check_workers, import_ray, ray_session
 from mpcwalk.sweep.table import ResultsTable
 
 #: Columns the engine adds to every row.
-ENGINE_COLUMNS = ("error", "wall_time_s", "worker", "node")
+ENGINE_COLUMNS = ("error", "wall_time_s", "cpu_time_s", "worker", "node")
 
 #: Columns that differ between two runs of the same case (timings and places).
 TIMING_COLUMNS = (
     "wall_time_s",
+    "cpu_time_s",
     "worker",
     "node",
     "real_time_factor",
@@ -89,9 +90,11 @@ def node_id() -> str | None:
 
 def run_case(runner: Callable[[Any], dict], case: Any, timeout: float | None) -> dict[str, Any]:
     """Run one case (in a worker): the runner's columns, ``error`` (None, or the exception
-    in one line), ``wall_time_s``, ``worker`` (host:pid) and ``node`` (the Ray node's id:
-    the machine of a cluster, or one of the nodes of a cluster on one machine)."""
-    start = time.perf_counter()
+    in one line), ``wall_time_s``, ``cpu_time_s`` (the worker process's processor time
+    during the case: below the wall time when other work shares the core), ``worker``
+    (host:pid) and ``node`` (the Ray node's id: the machine of a cluster, or one of the
+    nodes of a cluster on one machine)."""
+    start, cpu = time.perf_counter(), time.process_time()
     try:
         with time_limit(timeout):
             values, error = dict(runner(case)), None
@@ -101,6 +104,7 @@ def run_case(runner: Callable[[Any], dict], case: Any, timeout: float | None) ->
         **values,
         "error": error,
         "wall_time_s": time.perf_counter() - start,
+        "cpu_time_s": time.process_time() - cpu,
         "worker": f"{socket.gethostname()}:{os.getpid()}",
         "node": node_id(),
     }
