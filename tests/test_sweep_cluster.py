@@ -88,3 +88,17 @@ def test_the_throughput_measurement_refuses_bad_input_before_ray_starts(monkeypa
     monkeypatch.setenv("RAY_ADDRESS", "ray://head:10001")
     with pytest.raises(ConfigurationError, match="RAY_ADDRESS is set.*unset it"):
         measure_throughput(sweep)
+
+
+def test_a_ray_client_address_without_the_client_packages_is_a_named_error(monkeypatch):
+    """``ray://`` goes through the Ray client, whose packages (grpc) plain ``ray`` lacks: a
+    named error with the fix, before Ray is called."""
+    import sys
+
+    from mpcwalk.sweep import SweepDependencyMissing, ensure_ray
+
+    monkeypatch.setitem(sys.modules, "grpc", None)  # as when it is not installed
+    with pytest.raises(
+        SweepDependencyMissing, match=r"ray://head:10001.*pip install 'ray\[client\]'"
+    ):
+        ensure_ray(address="ray://head:10001")

@@ -16,6 +16,7 @@ measurement.
 """
 
 import contextlib
+import importlib.util
 import logging
 import os
 from collections.abc import Iterator
@@ -30,13 +31,20 @@ ADDRESS_VARIABLE = "RAY_ADDRESS"
 
 
 class SweepDependencyMissing(MpcwalkError, ImportError):
-    """Ray is not installed."""
+    """Ray is not installed, or (``client``) the Ray client's packages for a ``ray://``
+    address are not."""
 
-    def __init__(self) -> None:
-        super().__init__(
-            "The sweeps run on Ray, which is not installed: pip install 'mpcwalk[sweep]' "
-            "(or pip install 'ray[client]')."
-        )
+    def __init__(self, *, client: str | None = None) -> None:
+        if client is None:
+            message = "The sweeps run on Ray, which is not installed: pip install 'ray'."
+        else:
+            message = (
+                f"A ray:// address ({client}) goes through the Ray client, whose packages are "
+                "not installed (mpcwalk needs plain ray): pip install 'ray[client]', or give "
+                "the cluster's HOST:PORT (the head's port, 6379 by default) from a machine of "
+                "the cluster."
+            )
+        super().__init__(message)
 
 
 @dataclass
@@ -86,12 +94,16 @@ def ensure_ray(*, address: str | None = None, workers: int | None = None) -> int
         The CPU slots of the instance (the cluster's CPUs).
 
     Raises:
-        SweepDependencyMissing: Ray is not installed.
+        SweepDependencyMissing: Ray is not installed, or the Ray client's packages for a
+            ``ray://`` address are not.
         ConfigurationError: ``workers`` is not a positive integer.
     """
     check_workers(workers)
     ray = import_ray()
     address = cluster_address(address)
+    if address is not None and address.startswith("ray://"):
+        if importlib.util.find_spec("grpc") is None:  # the Ray client's, not plain ray's
+            raise SweepDependencyMissing(client=address)
     wanted = workers or os.cpu_count() or 1
     if ray.is_initialized():
         local = _STATE.address is None and _STATE.local_cpus > 0
