@@ -347,6 +347,7 @@ def test_every_command_runs_through_a_run_of_the_cli_package():
         ["bench", "solvers", "--out", "x"],
         ["experiment", "list"],
         ["experiment", "run", "paper_m", "--out", "x"],
+        ["experiment", "scaling", "robustness", "--out", "x"],
     ):
         run = parser.parse_args(argv).run
         assert run.__module__.startswith("mpcwalk.cli."), (argv, run.__module__)

@@ -47,6 +47,8 @@ def test_the_registry_lists_every_experiment_with_its_shipped_configuration(caps
     [
         (["experiment", "run", "teleport", "--out", "{out}"], "Unknown experiment 'teleport'"),
         (["experiment", "run", "capture_map", "--workers", "0", "--out", "{out}"], "positive"),
+        (["experiment", "scaling", "teleport", "--out", "{out}"], "Unknown experiment 'teleport'"),
+        (["experiment", "scaling", "robustness", "--repeats", "0", "--out", "{out}"], "positive"),
     ],
 )
 def test_bad_input_is_exit_2_with_a_named_error_and_nothing_written(

@@ -125,3 +125,32 @@ def test_walk_specifications_are_the_cases_of_a_sweep(tmp_path):
     assert rows[base.case_id]["group"] is None
     again = run_sweep(walks, tmp_path, workers=1, progress=False)
     assert again.nb_run == 0 and again.nb_resumed == 2
+
+
+def test_a_table_of_older_columns_is_rewritten_under_the_new_ones(tmp_path):
+    """A table written before the engine's ``cpu_time_s`` and ``node`` columns (the same
+    configuration) is rewritten with them, its rows kept and the new cells empty; the missing cases then run
+    into it, and the finished table has every column."""
+    from mpcwalk.sweep.table import ResultsTable
+
+    settings = {"runner": f"{__name__}.square_root", "columns": ["root", "seeded"]}
+    columns = sweep().table_columns()
+    assert columns[-1] == "node"
+    ResultsTable(
+        tmp_path,
+        name="roots",
+        settings=settings,
+        case_ids=[c.case_id for c in CASES],
+        columns=columns,
+    )
+    before = [c for c in columns if c not in ("cpu_time_s", "node")]
+    old = ",".join(before) + "\nv16-s0,16.0,0,4.0,16000.0,,0.5,host:1\n"
+    (tmp_path / "results.csv").write_text(old)
+    run = run_sweep(sweep(), tmp_path, workers=1, progress=False)
+    assert run.nb_resumed == 1 and run.nb_run == 9 and run.complete
+    rows = read_rows(tmp_path / "results.csv")
+    assert list(rows[0]) == columns
+    assert rows[0]["worker"] == "host:1" and rows[0]["root"] == 4.0
+    assert rows[0]["node"] is None and rows[0]["cpu_time_s"] is None
+    assert all(isinstance(row["node"], str) and len(row["node"]) == 56 for row in rows[1:])
+    assert all(0.0 <= row["cpu_time_s"] < 5.0 for row in rows[1:])

@@ -1,5 +1,6 @@
-"""``mpcwalk experiment list`` and ``mpcwalk experiment run NAME [--quick] [--workers N]
-[--address ADDR] --out DIR``: the experiments of the registry
+"""``mpcwalk experiment list``, ``mpcwalk experiment run NAME [--quick] [--workers N]
+[--address ADDR] --out DIR`` and ``mpcwalk experiment scaling NAME [--quick] --out DIR``
+(the sweep engine's throughput on its cases): the experiments of the registry
 (:data:`~mpcwalk.experiments.catalog.EXPERIMENTS`) on the command line.
 
 ``run`` checks its input before anything runs (an unknown name, a bad ``--workers``, a
@@ -48,6 +49,30 @@ def add_parser(sub) -> argparse.ArgumentParser:
     )
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
     run.set_defaults(run=run_experiment)
+    scaling = esub.add_parser(
+        "scaling",
+        help="the sweep engine's throughput on an experiment's cases: 1 and 2 workers, on a "
+        "local Ray instance and a local cluster (scaling.md, scaling.json)",
+        description="Run the experiment's cases (into temporary folders) with each number of "
+        "workers, on a fresh local Ray instance and on a fresh Ray cluster of one node per "
+        "worker started on this machine; write walks per minute and per core, the speed-up "
+        "and Ray's start into --out (scaling.md, scaling.json).",
+    )
+    scaling.add_argument("name", help="the experiment (list: mpcwalk experiment list)")
+    scaling.add_argument("--out", type=Path, required=True, help="output folder")
+    scaling.add_argument("--quick", action="store_true", help="the small variant's cases")
+    scaling.add_argument(
+        "--workers", type=int, nargs="+", default=[1, 2], help="numbers of workers"
+    )
+    scaling.add_argument(
+        "--places",
+        nargs="+",
+        default=["local", "cluster"],
+        choices=["local", "cluster"],
+        help="where: a local Ray instance (local), a local cluster (cluster)",
+    )
+    scaling.add_argument("--repeats", type=int, default=1, help="runs of each (the median)")
+    scaling.set_defaults(run=run_scaling)
     return experiment
 
 
@@ -97,4 +122,40 @@ def run_experiment(args: argparse.Namespace) -> int:
         print(f"{len(sweep.rows)}/{sweep.nb_cases} cases done: run the same command to go on")
         return 0
     print(f"wrote {run.report}")
+    return 0
+
+
+def run_scaling(args: argparse.Namespace) -> int:
+    """``mpcwalk experiment scaling NAME``: the sweep engine's throughput on the
+    experiment's cases (:mod:`mpcwalk.experiments.scaling`).
+
+    Raises:
+        MpcwalkError: Bad input (an unknown experiment or place, a bad number of workers or
+            repeats, ``RAY_ADDRESS`` set), before anything runs.
+    """
+    import os
+
+    from mpcwalk.experiments.catalog import EXPERIMENTS
+    from mpcwalk.experiments.scaling import machine_words, measure_throughput, write_scaling
+    from mpcwalk.sweep.cluster import check_workers
+
+    experiment = EXPERIMENTS.load(args.name)
+    for count in (*args.workers, args.repeats):
+        check_workers(count)
+    config = experiment.config(quick=args.quick)
+    experiment.check(config)
+    sweep = experiment.sweep(config)
+    words = ["mpcwalk", "experiment", "scaling", args.name] + (["--quick"] if args.quick else [])
+    words += ["--workers", *map(str, args.workers), "--places", *args.places]
+    words += ["--repeats", str(args.repeats), "--out", str(args.out)]
+    before = os.getloadavg()
+    runs = measure_throughput(sweep, workers=args.workers, places=args.places, repeats=args.repeats)
+    path = write_scaling(
+        args.out,
+        runs,
+        command=shlex.join(words),
+        what=f"the {len(sweep.cases)} cases of `{args.name}`{' --quick' if args.quick else ''}",
+        machine=machine_words(before, os.getloadavg()),
+    )
+    print(path.read_text(), end="")
     return 0

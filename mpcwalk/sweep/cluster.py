@@ -8,10 +8,15 @@ of the process (:func:`shutdown` stops it; Ray stops it at exit). ``address``
 installed (the same version), since the tasks import it.
 
 Every worker runs with one thread per numerical library
-(:data:`~mpcwalk.walking.processes.SINGLE_THREAD_ENV`): one walk per CPU slot.
+(:data:`~mpcwalk.sweep.processes.SINGLE_THREAD_ENV`): one walk per CPU slot.
+
+:func:`local_cluster` starts a cluster of several nodes on this machine (Ray's
+``cluster_utils``): the cluster path without a cluster, for the tests and the throughput
+measurement.
 """
 
 import contextlib
+import importlib.util
 import logging
 import os
 from collections.abc import Iterator
@@ -26,13 +31,20 @@ ADDRESS_VARIABLE = "RAY_ADDRESS"
 
 
 class SweepDependencyMissing(MpcwalkError, ImportError):
-    """Ray is not installed."""
+    """Ray is not installed, or (``client``) the Ray client's packages for a ``ray://``
+    address are not."""
 
-    def __init__(self) -> None:
-        super().__init__(
-            "The sweeps run on Ray, which is not installed: pip install 'mpcwalk[sweep]' "
-            "(or pip install 'ray[client]')."
-        )
+    def __init__(self, *, client: str | None = None) -> None:
+        if client is None:
+            message = "The sweeps run on Ray, which is not installed: pip install 'ray'."
+        else:
+            message = (
+                f"A ray:// address ({client}) goes through the Ray client, whose packages are "
+                "not installed (mpcwalk needs plain ray): pip install 'ray[client]', or give "
+                "the cluster's HOST:PORT (the head's port, 6379 by default) from a machine of "
+                "the cluster."
+            )
+        super().__init__(message)
 
 
 @dataclass
@@ -82,12 +94,16 @@ def ensure_ray(*, address: str | None = None, workers: int | None = None) -> int
         The CPU slots of the instance (the cluster's CPUs).
 
     Raises:
-        SweepDependencyMissing: Ray is not installed.
+        SweepDependencyMissing: Ray is not installed, or the Ray client's packages for a
+            ``ray://`` address are not.
         ConfigurationError: ``workers`` is not a positive integer.
     """
     check_workers(workers)
     ray = import_ray()
     address = cluster_address(address)
+    if address is not None and address.startswith("ray://"):
+        if importlib.util.find_spec("grpc") is None:  # the Ray client's, not plain ray's
+            raise SweepDependencyMissing(client=address)
     wanted = workers or os.cpu_count() or 1
     if ray.is_initialized():
         local = _STATE.address is None and _STATE.local_cpus > 0
@@ -131,6 +147,49 @@ def ray_session(*, address: str | None = None, workers: int | None = None) -> It
     yield workers or slots
 
 
+@contextlib.contextmanager
+def local_cluster(*, nodes: int = 2, cpus_per_node: int = 1) -> Iterator[str]:
+    """A Ray cluster of ``nodes`` nodes on this machine, for the time of the block; yields
+    its address, which the sweeps take as a real cluster's (``address=``, ``--address``).
+
+    ``ray.cluster_utils.Cluster``: a head node and ``nodes - 1`` worker nodes, each its own
+    raylet with ``cpus_per_node`` CPU slots, every port chosen by the system (none of Ray's
+    fixed defaults, so it runs beside another Ray instance), no dashboard; its workers run
+    with :data:`~mpcwalk.sweep.processes.SINGLE_THREAD_ENV`. It runs the code that connects
+    to a cluster and spreads the cases over its nodes, the network aside. At the end, this
+    process leaves the cluster (:func:`shutdown`, if it joined it) and the nodes stop.
+
+    Raises:
+        SweepDependencyMissing: Ray is not installed.
+        ConfigurationError: ``nodes`` or ``cpus_per_node`` is not a positive integer.
+    """
+    for name, value in (("nodes", nodes), ("cpus_per_node", cpus_per_node)):
+        if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+            raise ConfigurationError(
+                f"{name} of a local cluster must be a positive integer, got {value!r}."
+            )
+    import_ray()
+    from ray.cluster_utils import Cluster
+
+    node: dict[str, Any] = {"num_cpus": cpus_per_node, "dashboard_agent_listen_port": None}
+    with single_thread_environment():  # the nodes' workers inherit it
+        cluster = Cluster(
+            initialize_head=True,
+            connect=False,
+            head_node_args={**node, "include_dashboard": False},
+        )
+    try:
+        with single_thread_environment():
+            for _ in range(nodes - 1):
+                cluster.add_node(**node)
+        cluster.wait_for_nodes()
+        yield str(cluster.address)
+    finally:
+        if _STATE.address == cluster.address:
+            shutdown()
+        cluster.shutdown()
+
+
 def where(address: str | None = None) -> str:
     """Where the sweeps run, in words (for the reports)."""
     address = cluster_address(address)
@@ -144,6 +203,7 @@ __all__ = [
     "cluster_address",
     "ensure_ray",
     "import_ray",
+    "local_cluster",
     "ray_session",
     "shutdown",
     "where",

@@ -17,6 +17,7 @@ import contextlib
 import os
 import signal
 import socket
+import sys
 import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -29,10 +30,17 @@ from mpcwalk.sweep.cluster import check_workers, import_ray, ray_session
 from mpcwalk.sweep.table import ResultsTable
 
 #: Columns the engine adds to every row.
-ENGINE_COLUMNS = ("error", "wall_time_s", "worker")
+ENGINE_COLUMNS = ("error", "wall_time_s", "cpu_time_s", "worker", "node")
 
 #: Columns that differ between two runs of the same case (timings and places).
-TIMING_COLUMNS = ("wall_time_s", "worker", "real_time_factor", "controller_tick_us_median")
+TIMING_COLUMNS = (
+    "wall_time_s",
+    "cpu_time_s",
+    "worker",
+    "node",
+    "real_time_factor",
+    "controller_tick_us_median",
+)
 
 _POLL = 1.0  # [s] between checks of the hard time limits
 
@@ -72,10 +80,21 @@ def time_limit(seconds: float | None) -> Iterator[None]:
         signal.signal(signal.SIGALRM, previous)
 
 
+def node_id() -> str | None:
+    """The id of the Ray node this process runs on (hexadecimal), None outside Ray."""
+    ray = sys.modules.get("ray")
+    if ray is None or not ray.is_initialized():
+        return None
+    return str(ray.get_runtime_context().get_node_id())
+
+
 def run_case(runner: Callable[[Any], dict], case: Any, timeout: float | None) -> dict[str, Any]:
     """Run one case (in a worker): the runner's columns, ``error`` (None, or the exception
-    in one line), ``wall_time_s`` and ``worker`` (host:pid)."""
-    start = time.perf_counter()
+    in one line), ``wall_time_s``, ``cpu_time_s`` (the worker process's processor time
+    during the case: below the wall time when other work shares the core), ``worker``
+    (host:pid) and ``node`` (the Ray node's id: the machine of a cluster, or one of the
+    nodes of a cluster on one machine)."""
+    start, cpu = time.perf_counter(), time.process_time()
     try:
         with time_limit(timeout):
             values, error = dict(runner(case)), None
@@ -85,7 +104,9 @@ def run_case(runner: Callable[[Any], dict], case: Any, timeout: float | None) ->
         **values,
         "error": error,
         "wall_time_s": time.perf_counter() - start,
+        "cpu_time_s": time.process_time() - cpu,
         "worker": f"{socket.gethostname()}:{os.getpid()}",
+        "node": node_id(),
     }
 
 
@@ -243,7 +264,7 @@ def _stream(sweep: Sweep, cases: Sequence[Any], slots: int) -> Iterator[tuple[An
 
 
 def _error_row(error: str, started: float) -> dict[str, Any]:
-    return {"error": error, "wall_time_s": time.monotonic() - started, "worker": None}
+    return {"error": error, "wall_time_s": time.monotonic() - started, "worker": None, "node": None}
 
 
 Task = tuple[Callable[..., Any], tuple]
@@ -317,6 +338,7 @@ __all__ = [
     "Task",
     "WorkerDied",
     "map_tasks",
+    "node_id",
     "run_case",
     "run_sweep",
     "time_limit",

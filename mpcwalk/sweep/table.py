@@ -151,10 +151,15 @@ class ResultsTable:
             return "(unreadable)"
 
     def _repair(self) -> None:
-        """Cut a partial last line (a sweep killed while writing it)."""
+        """Cut a partial last line (a sweep killed while writing it); rewrite a table
+        written with other columns (an older version's) under this one's columns, a column
+        it lacked left empty."""
         text = self.path.read_text(encoding="utf-8")
         if text and not text.endswith("\n"):
             self.path.write_text(text[: text.rfind("\n") + 1], encoding="utf-8")
+        header = next(csv.reader(io.StringIO(text)), None)
+        if header is not None and header != self.columns:
+            self._replace(self.rows())
 
     def _write(self, path: Path, rows: Iterable[dict[str, Any]]) -> None:
         with open(path, "w", newline="", encoding="utf-8") as stream:
@@ -189,10 +194,14 @@ class ResultsTable:
             rows.setdefault(str(row["case_id"]), row)
         ordered = sorted(rows.values(), key=lambda row: order.get(str(row["case_id"]), -1))
         if len(ordered) == len(self.case_ids):
-            temporary = self.path.with_suffix(".csv.tmp")
-            self._write(temporary, ordered)
-            os.replace(temporary, self.path)
+            self._replace(ordered)
         return ordered
+
+    def _replace(self, rows: Iterable[dict[str, Any]]) -> None:
+        """Rewrite the table with ``rows`` (atomically)."""
+        temporary = self.path.with_suffix(".csv.tmp")
+        self._write(temporary, rows)
+        os.replace(temporary, self.path)
 
 
 __all__ = ["MANIFEST_FILE", "TABLE_FILE", "ResultsTable", "decode", "encode", "read_rows"]
