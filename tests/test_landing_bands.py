@@ -124,3 +124,41 @@ def test_bad_bands_are_named_errors():
     )
     with pytest.raises(ConfigurationError, match="hold 12 landings and the plan 13 steps"):
         gen.reset(ContactSchedule(plan, FootGeometry(*SOLE)))
+
+
+@pytest.mark.parametrize("controller", ["mpc-steps", "mpc-hip"])
+def test_the_walk_builder_gives_every_footstep_adaptive_generator_its_bands(controller):
+    """On a terrain the builder passes the plan's bands (and its strides) to ``mpc-steps``
+    and to its subclasses alike."""
+    from conftest import get_robot
+
+    from mpcwalk.walking.controller_builder import build_controller
+    from mpcwalk.walking.specification import WalkSpec
+    from mpcwalk.walking.walk_setup import set_up_walk
+
+    spec = WalkSpec.build(
+        "bioloid-like",
+        controller=controller,
+        command=(0.05, 0.0, 0.0),
+        nb_steps=12,
+        step_duration=0.8,
+        terrain=STAIRS,
+        progress=False,
+    )
+    robot = get_robot("bioloid-like")
+    setup = set_up_walk(spec, robot)
+    built = build_controller(
+        robot,
+        setup.spec.controller,
+        setup.schedule,
+        control_period=0.01,
+        step_height=setup.step_height,
+        terrain=STAIRS,
+    )
+    generator = built.generator
+    assert isinstance(generator, FootstepMpcGenerator) and generator.planned_strides
+    reach = TerrainReach.for_leg(*robot.sole_size, robot.leg_length)
+    expected = tread_bands(setup.plan, STAIRS, reach)
+    assert generator.landing_bands is not None
+    assert np.array_equal(generator.landing_bands.lower, expected.lower)
+    assert np.array_equal(generator.landing_bands.upper, expected.upper)
