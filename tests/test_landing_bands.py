@@ -75,6 +75,29 @@ def test_a_band_keeps_the_whole_sole_on_its_tread_with_the_margin():
     assert treads >= 4  # the plan climbs the stairs (measured: 4 landings on treads)
 
 
+def test_a_step_down_keeps_the_placers_room_behind_the_heel():
+    """Down three 3 cm stairs: a landing lower than its lift-off keeps a fifth of the sole
+    behind its heel (the placer's heel room, 2 cm) on top of the margin; the band of a
+    tread is 1 cm long instead of 3."""
+    down = Terrain([Stairs(0.2, rise=-0.03, run=0.15, count=3)])
+    planner = VelocityPlanner(LegLimits(), StepTiming(0.8, 0.2))
+    plan = planner.plan((0.05, 0.0, 0.0), 12, terrain=down, reach=REACH)
+    bands = tread_bands(plan, down, REACH)
+    lift = {plan.initial_left.side: 0.0, plan.initial_right.side: 0.0}
+    descents = 0
+    for k, step in enumerate(plan.steps):
+        lifted, lift[step.side] = lift[step.side], float(step.position[2])
+        surface = down.surfaces[down.surface_index(*step.xy)]
+        if surface.kind != "tread" or step.position[2] > lifted - 0.005:
+            continue
+        descents += 1
+        heel_room = 0.2 * SOLE[0]
+        back = surface.x_min + 0.5 * SOLE[0] + REACH.tread_margin + heel_room
+        assert bands.lower[k, 0] == pytest.approx(min(back, step.xy[0]))
+        assert bands.upper[k, 0] == pytest.approx(surface.x_max - 0.5 * SOLE[0] - 0.01)
+    assert descents == 4  # measured: two feet on each of the first two treads
+
+
 def test_the_footstep_qp_keeps_pushed_landings_on_their_treads():
     """A forward kick of 0.2 m/s at 4.0 s (no simulation): without bands the QP moves the
     landing before the first riser 3.8 cm beyond its band (its toe 2.8 cm into the riser:

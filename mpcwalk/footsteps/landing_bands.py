@@ -8,6 +8,9 @@ that keep the whole sole on the top it rests on, with the placer's tread margin:
 footprint (axis-aligned along the terrain's heading, the world x axis) with its contiguous
 neighbours in the same plane (a last tread continued by a landing), shrunk on each side by
 the sole's half extent along that axis at the landing's yaw plus ``reach.tread_margin``.
+A step down (a landing lower than its swing foot's lift-off) also keeps the placer's room
+behind the heel (:data:`~mpcwalk.footsteps.terrain_steps.DESCENT_HEEL_ROOM`): a swing foot
+falling short of its target must not put its heel on the nose it steps down from.
 The bands are numbers (:class:`LandingBands`), known when the plan is made: linear bounds
 of the footstep QP (:class:`~mpcwalk.qp.footstep_supports.StepVariables`).
 
@@ -22,6 +25,7 @@ import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import FootstepPlan
+from mpcwalk.footsteps.terrain_steps import DESCENT_HEEL_ROOM, DESCENT_MIN
 from mpcwalk.footsteps.terrain_tops import TerrainTops
 from mpcwalk.terrain import Surface, Terrain, TerrainReach
 
@@ -105,16 +109,25 @@ def tread_bands(plan: FootstepPlan, terrain: Terrain, reach: TerrainReach) -> La
     lower, upper = np.full((plan.nb_steps, 2), -np.inf), np.full((plan.nb_steps, 2), np.inf)
     length, width = reach.sole_length, reach.sole_width
     margin = float(reach.tread_margin or 0.0)
+    lift = {plan.initial_left.side: plan.initial_left, plan.initial_right.side: plan.initial_right}
     for k, step in enumerate(plan.steps):
+        lift_height, lift[step.side] = float(lift[step.side].position[2]), step
         top = tops.rests_on(step.xy, step.yaw)
         if top[0] != "top":
             continue  # the floor beyond the terrain, a rough patch: no band
         x_min, x_max, y_min, y_max = _footprint(terrain, top[1])
-        c, s = abs(np.cos(step.yaw)), abs(np.sin(step.yaw))
+        heading = np.array([np.cos(step.yaw), np.sin(step.yaw)])
+        c, s = np.abs(heading)
         half = 0.5 * np.array([c * length + s * width, s * length + c * width]) + margin
+        low, high = np.array([x_min, y_min]) + half, np.array([x_max, y_max]) - half
+        if float(step.position[2]) < lift_height - DESCENT_MIN:  # a step down: heel room
+            room = DESCENT_HEEL_ROOM * length
+            low, high = (
+                low + room * np.maximum(heading, 0.0),
+                high - room * np.maximum(-heading, 0.0),
+            )
         xy = np.asarray(step.xy, dtype=float)
-        lower[k] = np.minimum(np.array([x_min, y_min]) + half, xy)
-        upper[k] = np.maximum(np.array([x_max, y_max]) - half, xy)
+        lower[k], upper[k] = np.minimum(low, xy), np.maximum(high, xy)
     return LandingBands(lower, upper)
 
 
