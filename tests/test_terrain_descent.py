@@ -73,6 +73,35 @@ def test_a_step_down_swing_lowers_only_after_its_travel():
     assert up is not None and up.travel_start < up.rise_end  # climbing overlaps as before
 
 
+def test_a_step_down_swing_restarted_for_a_moved_landing_still_lowers_after_its_travel():
+    """A footstep-adaptive generator moves a step down's landing in mid-swing: the swing goes
+    on from where the foot is on the shaped swing's travel law, so it reaches the new
+    landing's x before it lowers (on the whole swing's interpolant it travelled while it
+    lowered and the G1's heel came down on the nose)."""
+    schedule = ContactSchedule(g1_plan(), FootGeometry(0.20, 0.07))
+    k, (_, landing) = next(
+        (k, pair)
+        for k, pair in enumerate(zip(schedule.plan.steps, schedule.plan.steps[2:]), start=2)
+        if pair[1].position[2] < pair[0].position[2] - 0.01
+    )
+    landing_time = schedule.walk_start + k * schedule.step_duration + schedule.t_e
+    lift_time = landing_time - (schedule.t_e - schedule.t_b)
+    before = SwingFootTrajectory(schedule, 0.06, terrain=G1_STAIRS)
+    t = lift_time + 0.35 * (landing_time - lift_time)  # travelling at the apex
+    moved = list(schedule.plan.steps)
+    moved[k] = landing.moved(position=[landing.xy[0] - 0.01, landing.xy[1], landing.position[2]])
+    after = SwingFootTrajectory(schedule.with_steps(moved), 0.06, terrain=G1_STAIRS)
+    after.restart_swing(t, before.foot_poses(t)[landing.side])
+    times = np.linspace(t, landing_time - 1e-6, 200)
+    poses = [after.foot_poses(x)[landing.side] for x in times]
+    x = np.array([p.position[0] for p in poses])
+    z = np.array([p.position[2] for p in poses])
+    lowering = z < z.max() - 1e-6
+    assert lowering.any() and not lowering[0]
+    assert np.ptp(x[lowering]) < 1e-9  # measured: 0 (on the whole swing's law: 8.9 cm)
+    assert x[-1] == pytest.approx(landing.xy[0] - 0.01)
+
+
 def test_a_trailing_foot_heels_off_about_its_toe_before_it_steps_down():
     """Through the double support before a step down the trailing sole turns toe down
     about its toe (the toe stays where it rests), keeps that pitch while it rises and

@@ -42,7 +42,7 @@ from mpcwalk.terrain import Terrain, TerrainReach
 ROUGH_PREFERENCE = 0.5
 _EPS = 1e-9
 #: Drop [m] below the swing foot's lift-off height from which a landing is a step down.
-_DESCENT_MIN = 0.005
+DESCENT_MIN = 0.005
 
 
 #: Margin to a top's edges [share of the sole length] a landing prefers: on a tread or a stone
@@ -150,7 +150,7 @@ class TerrainStepPlacer:
             penalty = ROUGH_PREFERENCE * self.reach.sole_length
         if place.top[0] == "top":  # treads, stones, landings: keep the sole off their edges
             wanted = PREFERRED_MARGIN * self.reach.sole_length
-            if place.height < lift_height - _DESCENT_MIN:
+            if place.height < lift_height - DESCENT_MIN:
                 margin = self._heel_room_margin(place, yaw)  # a step down
             else:
                 margin = self.tops.support(place.center, yaw).margin
@@ -253,4 +253,10 @@ def place_on_terrain(
     return TerrainStepPlacer(terrain, reach, limits).place(plan, closing=closing)
 
 
-__all__ = ["DESCENT_HEEL_ROOM", "ROUGH_PREFERENCE", "TerrainStepPlacer", "place_on_terrain"]
+__all__ = [
+    "DESCENT_HEEL_ROOM",
+    "DESCENT_MIN",
+    "ROUGH_PREFERENCE",
+    "TerrainStepPlacer",
+    "place_on_terrain",
+]

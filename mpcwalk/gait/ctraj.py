@@ -190,3 +190,20 @@ def ctraj(T0, T1, n: int | None = None, *, precision: float | None = None) -> Ca
     for array in (poses, s, fraction):
         array.setflags(write=False)
     return CartesianTrajectory(poses=poses, s=s, path_fraction=fraction)
+
+
+def ctraj_swing(
+    phi: float, phi_b: float, phi_e: float, step_duration: float
+) -> tuple[float, float, float, float]:
+    """Paper A's lift-then-lower swing profile at the step phase ``phi`` (single support
+    from ``phi_b`` to ``phi_e`` of a step of ``step_duration`` [s]): the fraction of the
+    step ``h`` and of the height ``v`` with their time derivatives [1/s], each half on the
+    quintic law of :func:`ctraj` (the foot lifted to an apex, then lowered)."""
+    span = (phi_e - phi_b) * step_duration  # single support [s]
+    s = min(max((phi - phi_b) / (phi_e - phi_b), 0.0), 1.0)
+    half = 2.0 * s if s < 0.5 else 2.0 * s - 1.0
+    r = half**3 * (10.0 - 15.0 * half + 6.0 * half**2)
+    dr = 30.0 * half**2 * (1.0 - half) ** 2 * (2.0 / span)  # d r / d t
+    if s < 0.5:  # lift: pose -> apex
+        return 0.5 * r, 0.5 * dr, r, dr
+    return 0.5 + 0.5 * r, 0.5 * dr, 1.0 - r, -dr  # lower: apex -> landing

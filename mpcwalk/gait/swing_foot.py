@@ -27,6 +27,7 @@ from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import Footstep, Side, wrap_angle
 from mpcwalk.gait import heel_off
 from mpcwalk.gait.contact_schedule import ContactSchedule, Phase
+from mpcwalk.gait.ctraj import ctraj_swing
 from mpcwalk.gait.foot_state import FeetState, FootState
 from mpcwalk.gait.interpolation import step_interpolation_scalar, swing_height_scalar
 from mpcwalk.gait.swing_clearance import SwingClearance, with_height
@@ -124,6 +125,7 @@ class SwingFootTrajectory:
         # step index -> (h, horizontal position (2,), yaw, height offset, roll, pitch) the
         # swing restarts from
         self._restarts: dict[int, tuple[float, np.ndarray, float, float, float, float]] = {}
+        self._travels: set[int] = set()  # steps restarted on their terrain swing's travel law
         self._retargets: dict[int, QuinticRetarget] = {}  # step -> its horizontal quintic
         self._static_states: dict[int, tuple[Footstep, FootState]] = {}
 
@@ -133,8 +135,8 @@ class SwingFootTrajectory:
         """Continue the swing in progress at ``t`` from ``foot`` (its pose then) towards
         this schedule's landing: the landing moved during the swing (footstep-adaptive
         generator), and the horizontal position and the angles must not jump. From ``t`` on,
-        they
-        cover what is left of the way with the rest of the interpolant h, rescaled
+        they cover what is left of the way with the rest of the interpolant h (a terrain
+        swing's travel law: it still lowers after its travel), rescaled
         ``(h - h(t)) / (1 - h(t))``; the height follows the profile, offset by the foot's
         height above it at ``t`` fading out by touch-down (none when only the landing
         moved; the schedule's clock jumping ahead, a landing brought forward, needs it). No
@@ -157,6 +159,11 @@ class SwingFootTrajectory:
         lift = self.schedule.stance(t)[landing.side]
         profile = self._swing_state(t, lift, landing, h, 0.0).position[2]
         height = float(foot.position[2]) - float(profile)
+        shaped = self._shaped(t, lift, landing)
+        self._travels.discard(k)
+        if shaped is not None and shaped[0] < 1.0 - 1e-9:  # a terrain swing: travel, lower
+            h = shaped[0]
+            self._travels.add(k)
         self._retargets.pop(k, None)
         remaining = self.schedule.walk_start + k * self.step_duration + self.schedule.t_e - t
         if acceleration is not None and remaining > 1e-6:
@@ -259,8 +266,10 @@ class SwingFootTrajectory:
             else:
                 states[swing] = self._swing_state(t, lift, landing, h, dh)
                 if k in self._restarts:
+                    law = self._shaped(t, lift, landing) if k in self._travels else None
+                    hr, dhr = (h, dh) if law is None else law[:2]
                     states[swing] = self._restarted(
-                        states[swing], landing, h, dh, *self._restarts[k]
+                        states[swing], landing, hr, dhr, *self._restarts[k]
                     )
                 if k in self._retargets:
                     states[swing] = _retargeted(states[swing], self._retargets[k], t)
@@ -270,20 +279,26 @@ class SwingFootTrajectory:
         self, t: float, lift: Footstep, landing: Footstep, h: float, dh: float
     ) -> FootState:
         phi = self.schedule.step_phase(t)
-        if self.terrain_clearance is not None:
-            span = self.phi_e - self.phi_b
-            shaped = self.terrain_clearance.interpolants(
-                lift, landing, (phi - self.phi_b) / span, span * self.step_duration
-            )
-            if shaped is not None:
-                state = self._blend(lift, landing, shaped[0], shaped[1], 0.0, 0.0)
-                state = with_height(state, shaped[2], shaped[3])
-                return heel_off.in_swing(self, state, lift, landing, phi)
+        shaped = self._shaped(t, lift, landing)
+        if shaped is not None:
+            state = self._blend(lift, landing, shaped[0], shaped[1], 0.0, 0.0)
+            state = with_height(state, shaped[2], shaped[3])
+            return heel_off.in_swing(self, state, lift, landing, phi)
         if self.profile == "ctraj":
-            h, dh, v, dv = self._ctraj_interpolants(phi)
+            h, dh, v, dv = ctraj_swing(phi, self.phi_b, self.phi_e, self.step_duration)
             return self._blend(lift, landing, h, dh, v, dv)
         v, dv = swing_height_scalar(phi, self.phi_b, self.phi_e, self.step_duration)
         return self._blend(lift, landing, h, dh, v, dv)
+
+    def _shaped(self, t: float, lift: Footstep, landing: Footstep):
+        """The terrain swing's ``(h, dh, z, dz)`` at ``t`` [s] (rise, travel, lower:
+        :meth:`~mpcwalk.gait.swing_clearance.SwingClearance.interpolants`), None when the
+        swing keeps ``profile``."""
+        if self.terrain_clearance is None:
+            return None
+        span = self.phi_e - self.phi_b
+        s = (self.schedule.step_phase(t) - self.phi_b) / span
+        return self.terrain_clearance.interpolants(lift, landing, s, span * self.step_duration)
 
     @staticmethod
     def _restarted(
@@ -324,18 +339,6 @@ class SwingFootTrajectory:
             dr * delta_roll,
             dr * delta_pitch,
         )
-
-    def _ctraj_interpolants(self, phi: float) -> tuple[float, float, float, float]:
-        """Paper A's lift-then-lower profile: fraction of the step ``h`` and of the
-        height ``v`` with their time derivatives, each half on the quintic law."""
-        span = (self.phi_e - self.phi_b) * self.step_duration  # single support [s]
-        s = min(max((phi - self.phi_b) / (self.phi_e - self.phi_b), 0.0), 1.0)
-        half = 2.0 * s if s < 0.5 else 2.0 * s - 1.0
-        r = half**3 * (10.0 - 15.0 * half + 6.0 * half**2)
-        dr = 30.0 * half**2 * (1.0 - half) ** 2 * (2.0 / span)  # d r / d t
-        if s < 0.5:  # lift: pose -> apex
-            return 0.5 * r, 0.5 * dr, r, dr
-        return 0.5 + 0.5 * r, 0.5 * dr, 1.0 - r, -dr  # lower: apex -> landing
 
     def _blend(
         self, lift: Footstep, landing: Footstep, h: float, dh: float, v: float, dv: float

@@ -3,11 +3,13 @@
 Each tick solves :class:`~mpcwalk.qp.footstep_qp.FootstepQP`: the CoM tracks the commanded
 walking velocity (each step's average, Herdt's cost), the ZMP is pulled to the centre of its
 support and kept inside it, the footsteps landing within the horizon are placed inside the
-reachability rectangle of the previous one (which keeps the feet apart). Sides, timing and
+reachability rectangle of the previous one (which keeps the feet apart) and, on a terrain,
+inside the band of the tread each was placed on (``landing_bands``). Sides, timing and
 yaws are the plan's: every constraint is linear. Departure from Herdt: a cost pulls each
 footstep towards the plan, so that an undisturbed walk steps on it. The geometry is
 :class:`~mpcwalk.qp.footstep_supports.FootstepSlots`'s; the solve, the plan and the fallback
-are :mod:`mpcwalk.generators.receding_horizon`'s.
+are :mod:`mpcwalk.generators.receding_horizon`'s, the step timing adaptation
+:mod:`mpcwalk.generators.step_timing_adaptation`'s.
 
 Footsteps given to the controller (:attr:`GeneratorOutput.schedule`): landed feet and the
 support foot never move; the swing foot's landing is frozen ``freeze_before_landing``
@@ -22,6 +24,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError, NotReset
+from mpcwalk.footsteps.landing_bands import LandingBands
 from mpcwalk.footsteps.leg_limits import LegLimits
 from mpcwalk.footsteps.reachability import ReachabilityRectangle
 from mpcwalk.gait.contact_schedule import ContactSchedule
@@ -29,7 +32,7 @@ from mpcwalk.gait.gait_defaults import GaitDefaults
 from mpcwalk.gait.height_profile import height_profile
 from mpcwalk.gait.swing_retarget import SwingLimits
 from mpcwalk.generators.pattern_generator import GeneratorOutput
-from mpcwalk.generators.receding_horizon import RecedingHorizonGenerator
+from mpcwalk.generators.step_timing_adaptation import StepTimingAdaptation
 from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp.footstep_parameters import FootstepMpcParameters
@@ -41,7 +44,7 @@ _BOUNDARY_EPS = 1e-9  # [s] a sample on a phase boundary belongs to the new phas
 FOOTSTEP_REFERENCES = ("relative", "absolute")
 
 
-class FootstepMpcGenerator(RecedingHorizonGenerator):
+class FootstepMpcGenerator(StepTimingAdaptation):
     """Linear MPC that also places the next footsteps (Herdt et al. 2010).
 
     Args:
@@ -56,6 +59,9 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         planned_strides: Accept the plan's strides beyond ``reachability`` (footsteps placed on
             a terrain: a tread or a stone further than a flat step), each step's bounds grown
             to hold its planned displacement; False refuses such a plan.
+        landing_bands: Where each landing of the plan may move, one box per step (world x,
+            y; :func:`~mpcwalk.footsteps.landing_bands.tread_bands`: on its tread, off the
+            edges), bounds of the QP; None: anywhere within reach.
         solver: A ``qpsolvers`` name. Default ``"quadprog"``: median tick 0.84 ms (solver
             0.18 ms) against 1.16 ms (0.47 ms) with ``"daqp"`` on a 10-step walk, same
             plans. The QP is dense and rebuilt every tick, so ``"osqp-direct"``, ``"kkt"``
@@ -151,6 +157,7 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
         max_hold: float = 0.5,
         hold_dcm_error: float = 0.01,
         planned_strides: bool = False,
+        landing_bands: LandingBands | None = None,
         **overrides,
     ) -> None:
         flags = {"timing_adaptation": timing_adaptation, "late_adjustment": late_adjustment}
@@ -190,6 +197,12 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
             )
         self.reachability = reachability
         self.planned_strides = bool(planned_strides)
+        if landing_bands is not None and not isinstance(landing_bands, LandingBands):
+            raise ConfigurationError(
+                "landing_bands must be LandingBands (tread_bands(plan, terrain, reach)) or "
+                f"None, got {type(landing_bands).__name__}."
+            )
+        self.landing_bands = landing_bands
         if footstep_reference not in FOOTSTEP_REFERENCES:
             raise ConfigurationError(
                 f"footstep_reference must be one of {', '.join(FOOTSTEP_REFERENCES)}, got "
@@ -244,7 +257,8 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
     # ------------------------------------------------------------------ reset
     def _reset(self, schedule: ContactSchedule, initial_state: ComState) -> GeneratorOutput:
         late = self.swing_limits or SwingLimits.for_walk(schedule, self.reachability)
-        slots = FootstepSlots(schedule, self.reachability, self.planned_strides, late=late)
+        bands, strides = self.landing_bands, self.planned_strides
+        slots = FootstepSlots(schedule, self.reachability, strides, late=late, bands=bands)
         slots.check_reachable()
         self._slots = slots
         p = self.parameters
@@ -315,66 +329,6 @@ class FootstepMpcGenerator(RecedingHorizonGenerator):
             solve=info,
             schedule=published,
         )
-
-    def _lift_off(self, k: int) -> float:
-        """When the swing foot of step ``k`` lifts, on the schedule's clock [s]."""
-        assert self._slots is not None and self.schedule is not None  # set by reset()
-        return float(self._slots.landing[k]) - (self.schedule.t_e - self.schedule.t_b)
-
-    def _hold_lift_off(self, t: float) -> bool:
-        """Whether this tick's output (at ``t + control_period``) would be the first past a
-        lift-off that should be put off: the DCM error points towards the lifting foot by
-        more than ``hold_dcm_error``, and that lift-off has been put off less than
-        ``max_hold`` so far."""
-        slots, schedule, dt = self._slots, self.schedule, self.control_period
-        if not self.max_hold or slots is None or schedule is None:
-            return False
-        t_out = t + dt
-        k = schedule.step_index(t_out)
-        if not 0 <= k < slots.nb_steps:
-            return False
-        if not t_out - dt < self._lift_off(k) <= t_out + 1e-9:
-            return False
-        toward = slots.positions[slots.lift[k]] - slots.positions[slots.support[k]]
-        toward = toward / max(float(np.linalg.norm(toward)), 1e-9)
-        held = self._held[1] if self._held[0] == k else 0.0
-        if float(self.dcm_error @ toward) <= self.hold_dcm_error or held >= self.max_hold - 1e-9:
-            return False
-        self._held = (k, held + dt)
-        self.nb_held += 1
-        return True
-
-    def _landing_advance(self, t: float, x0: np.ndarray, k: int) -> float:
-        """How much earlier [s] step ``k`` should land (once per step): 0 unless the capture
-        point at its planned landing (the ZMP held at the stance sole's point nearest the
-        DCM, the ankle's best) lies beyond the reach of step ``k``; then the landing time in
-        ``[swing start + min_swing, planned]`` leaving it nearest the reachable region (the
-        latest among equals)."""
-        slots, schedule = self._slots, self.schedule
-        if slots is None or schedule is None or k in self._retimed_steps:
-            return 0.0
-        landing, swing_start = float(slots.landing[k]), self._lift_off(k)
-        earliest = max(t + self.control_period, swing_start + self.min_swing)
-        if t < swing_start or earliest >= landing - 1e-9:
-            return 0.0
-        omega = self.lipm.omega
-        stance = slots.positions[slots.support[k]]
-        yaw = float(slots.yaws[slots.support[k]])
-        rotation = np.array([[np.cos(yaw), np.sin(yaw)], [-np.sin(yaw), np.cos(yaw)]])
-        lower, upper = (np.asarray(bound)[:2] for bound in slots.bounds[k])
-        half_sole = 0.5 * np.array([schedule.foot.length, schedule.foot.width])
-        dcm = rotation @ (x0[0] + x0[1] / omega + self.dcm_error - stance)  # stance frame
-        zmp = np.clip(dcm, -half_sole, half_sole)
-        times = np.linspace(earliest, landing, 9)
-        local = zmp + (dcm - zmp) * np.exp(omega * (times - t))[:, None]  # capture points
-        beyond = np.linalg.norm(local - np.clip(local, lower, upper), axis=1)
-        if beyond[-1] <= half_sole[1]:  # within reach (give or take the sole)
-            return 0.0
-        best = int(np.flatnonzero(beyond <= beyond.min() + 1e-6)[-1])
-        if best == len(times) - 1:
-            return 0.0
-        self._retimed_steps.add(k)
-        return float(landing - times[best])
 
     def _checked_solve(self, qp, shift: float) -> QPResult:
         """The core's checked solve; when the capturability rows make it fail, the plan

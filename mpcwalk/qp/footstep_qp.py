@@ -10,6 +10,7 @@ footsteps; the footstep yaws are known in advance, so every constraint is linear
                + jerk_weight ||U||^2 + footstep_weight ||M F - r||^2
     subject to n_r . Z_i - n_r . S_i F <= b_r          (ZMP of sample i in its support)
                lower <= R(yaw_p)^T (F_j - F_p) <= upper  (footstep j reachable from p)
+               band_lower_j <= F_j <= band_upper_j       (on a terrain: on its tread)
 
 ``c0 + S F`` is the ZMP centre of each sample (its support foot, or a point moving from
 one foot to the next in double support), affine in the footsteps. ``M F - r`` pulls the
@@ -26,6 +27,7 @@ import qpsolvers
 from mpcwalk.exceptions import ConfigurationError, NotReset
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.lipm import LIPM
+from mpcwalk.qp.footstep_bounds import band_rows, box_rows
 from mpcwalk.qp.footstep_parameters import FootstepMpcParameters
 from mpcwalk.qp.footstep_supports import SampleSupports, StepVariables
 from mpcwalk.qp.program import Prediction
@@ -286,21 +288,12 @@ class FootstepQP:
         fixed = steps.predecessor_xy[active]
         moved = np.einsum("rka,ra->rk", e, fixed)
         h_reach = np.where(chained[:, None], bounds, bounds + moved).ravel()
-        G_box, h_box = self._box_rows(steps)
-        return np.vstack([G_zmp, G_reach, G_box]), np.concatenate([h_zmp, h_reach, h_box])
-
-    def _box_rows(self, steps: StepVariables) -> tuple[np.ndarray, np.ndarray]:
-        """``|F_j - initial_j| <= box_j`` per world axis, for the finite half-widths of
-        ``steps.box`` (the late step adjustment's bound on a landing change)."""
-        if steps.box is None:
-            return np.zeros((0, self.n)), np.zeros(0)
-        j, a = np.nonzero(np.isfinite(steps.box) & steps.active[:, None])
-        columns = 2 * self.N + a * self.nf + j
-        G = np.zeros((2 * len(j), self.n))
-        G[np.arange(len(j)), columns] = 1.0
-        G[len(j) + np.arange(len(j)), columns] = -1.0
-        centre, half = steps.initial[j, a], steps.box[j, a]
-        return G, np.concatenate([centre + half, half - centre])
+        G_box, h_box = box_rows(steps, self.n, N, nf)
+        G_band, h_band = band_rows(steps, self.n, N, nf)
+        return (
+            np.vstack([G_zmp, G_reach, G_box, G_band]),
+            np.concatenate([h_zmp, h_reach, h_box, h_band]),
+        )
 
     def _terminal_dcm_rows(self, x0, supports: SampleSupports):
         """``normal . (xi_N - S_N F) <= offset``: the DCM at the last sample inside the

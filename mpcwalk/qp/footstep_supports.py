@@ -21,8 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mpcwalk.exceptions import InfeasibleStep
+from mpcwalk.exceptions import ConfigurationError, InfeasibleStep
 from mpcwalk.footsteps.footstep import Side, wrap_angle
+from mpcwalk.footsteps.landing_bands import LandingBands
 from mpcwalk.footsteps.reachability import ReachabilityRectangle
 from mpcwalk.gait.contact_schedule import MAX_POLYGON_EDGES, ContactSchedule
 from mpcwalk.gait.swing_retarget import SwingLimits
@@ -75,6 +76,11 @@ class StepVariables:
         box: Half-widths of a box about ``initial`` (world x, y) each landing stays in, shape
             (nf, 2), in [m] (late step adjustment: what the swing's time left allows); None
             or inf: no box.
+        band_lower: Smallest world x, y of each landing, shape (nf, 2), in [m] (the tread it
+            was placed on, :class:`~mpcwalk.footsteps.landing_bands.LandingBands`); None or
+            -inf: unbounded.
+        band_upper: Largest world x, y of each landing, shape (nf, 2), in [m]; None or inf:
+            unbounded.
     """
 
     active: np.ndarray
@@ -87,6 +93,8 @@ class StepVariables:
     upper: np.ndarray
     initial: np.ndarray
     box: np.ndarray | None = None
+    band_lower: np.ndarray | None = None
+    band_upper: np.ndarray | None = None
 
 
 class FootstepSlots:
@@ -98,6 +106,8 @@ class FootstepSlots:
         planned_strides: Grow each step's bounds to hold its planned displacement.
         late: Swing limits of the late step adjustment (None: no box on the landings; see
             :meth:`step_variables`).
+        bands: Where each landing may move (the top it was placed on), one band per step of
+            the schedule's plan; None: anywhere within reach.
 
     Attributes:
         nominal: Planned positions of the slots, shape (nb_steps + 2, 2), in [m].
@@ -115,9 +125,16 @@ class FootstepSlots:
         reachability: ReachabilityRectangle,
         planned_strides: bool = False,
         late: SwingLimits | None = None,
+        bands: LandingBands | None = None,
     ) -> None:
         self.late = late
         plan = schedule.plan
+        if bands is not None and len(bands) != plan.nb_steps:
+            raise ConfigurationError(
+                f"The landing bands hold {len(bands)} landings and the plan {plan.nb_steps} "
+                "steps: make them from the same plan (tread_bands(plan, terrain, reach))."
+            )
+        self.bands = bands
         self.planned_strides = bool(planned_strides)
         self.nominal_schedule = schedule
         self.reachability = reachability
@@ -308,7 +325,25 @@ class FootstepSlots:
             half = np.full((nf, 2), np.inf)
             box = self.late.landing_change_bound(self.landing[steps_k] - now)
             half[: len(steps_k)] = np.asarray(box, dtype=float)[:, None]
-        return StepVariables(active, M, r, pred, pred_xy, pred_yaw, lower, upper, initial, half)
+        band_lower = band_upper = None
+        if self.bands is not None:
+            band_lower, band_upper = np.full((nf, 2), -np.inf), np.full((nf, 2), np.inf)
+            band_lower[: len(steps_k)] = self.bands.lower[steps_k]
+            band_upper[: len(steps_k)] = self.bands.upper[steps_k]
+        return StepVariables(
+            active,
+            M,
+            r,
+            pred,
+            pred_xy,
+            pred_yaw,
+            lower,
+            upper,
+            initial,
+            half,
+            band_lower,
+            band_upper,
+        )
 
     def publish(
         self, steps_k: np.ndarray, footsteps: np.ndarray, tolerance: float
@@ -317,7 +352,8 @@ class FootstepSlots:
         ``tolerance`` [m] (the ones after it may lag: they are published with it, and the
         next landing is the one frozen), else None. Steps after the horizon keep their
         planned displacements from the last variable one, so that the published plan stays
-        reachable (with the absolute reference the QP pulls them back once in the horizon)."""
+        reachable (with the absolute reference the QP pulls them back once in the horizon),
+        moved into their :attr:`bands` (a later landing stays on its tread)."""
         slots = 2 + steps_k
         if np.linalg.norm(footsteps[0] - self.positions[slots[0]]) <= tolerance:
             return None
@@ -325,6 +361,9 @@ class FootstepSlots:
         positions[slots] = footsteps
         last = slots[-1]  # later steps keep their planned displacements: reachable
         positions[last + 1 :] = self.nominal[last + 1 :] + (footsteps[-1] - self.nominal[last])
+        if self.bands is not None:  # ... within their bands
+            later = np.arange(last + 1, len(positions))
+            positions[later] = self.bands.clip(later - 2, positions[later])
         steps = list(self.current.plan.steps)
         for k in np.flatnonzero(np.any(positions[2:] != self.positions[2:], axis=1)):
             steps[k] = steps[k].moved(position=[*positions[2 + k], steps[k].position[2]])

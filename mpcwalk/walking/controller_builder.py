@@ -27,15 +27,17 @@ from mpcwalk.control.stabilizers import StabilizerChain, make_stabilizer
 from mpcwalk.control.stabilizers.base import Stabilizer
 from mpcwalk.control.torque_controller import TorqueController
 from mpcwalk.footsteps.footstep import StepTiming
+from mpcwalk.footsteps.landing_bands import tread_bands
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.gait_defaults import GaitDefaults
 from mpcwalk.generators import generator_class
+from mpcwalk.generators.mpc_steps import FootstepMpcGenerator
 from mpcwalk.generators.registry import check_options
 from mpcwalk.ik.targets import IKWeights
 from mpcwalk.ik.upper_body import upper_body_flywheel
 from mpcwalk.ik.whole_body_ik import WholeBodyIK
 from mpcwalk.robot import Robot
-from mpcwalk.terrain import Terrain
+from mpcwalk.terrain import Terrain, TerrainReach
 from mpcwalk.walking.specification import ControllerSpec, PlanSpec
 
 #: Tikhonov damping of the whole-body IK [cost^2] under a gait that holds the CoM above the
@@ -101,9 +103,14 @@ def build_controller(
     generator_options = dict(spec.generator_options)
     if terrain is not None and not terrain.is_flat:
         options["terrain"] = terrain
-        # a footstep-adaptive generator takes the strides the terrain planner gave
-        if "planned_strides" in inspect.signature(generator_class(spec.generator)).parameters:
+        if issubclass(generator_class(spec.generator), FootstepMpcGenerator):
+            # a footstep-adaptive generator takes the strides the terrain planner gave, and
+            # keeps each landing on the tread it was placed on
+            reach = TerrainReach.for_leg(*robot.sole_size, robot.leg_length)
             generator_options.setdefault("planned_strides", True)
+            generator_options.setdefault(
+                "landing_bands", tread_bands(schedule.plan, terrain, reach)
+            )
     if "flywheel_limits" in inspect.signature(generator_class(spec.generator)).parameters:
         # the hip strategy: the upper body's limits from the robot's model
         generator_options.setdefault("flywheel_limits", upper_body_flywheel(robot))
