@@ -139,7 +139,7 @@ def test_contact_wrenches_of_all_contacts_equal_those_of_their_indices():
         sim.step(robot.q0[7:] + rng.normal(0.0, 0.03, robot.model.nq - 7))
     ncon = sim.data.ncon
     assert ncon >= 4  # measured: 5 contacts
-    every = sim.contacts._contact_wrenches(sim.model, sim.data, None)
+    every = sim.contacts._contact_wrenches(sim.model, sim.data, slice(0, ncon))
     indexed = sim.contacts._contact_wrenches(sim.model, sim.data, np.arange(ncon))
     expected = np.zeros((ncon, 6))
     for i in range(ncon):

@@ -96,16 +96,11 @@ class ContactWrenches:
         on_geom2 = feet_of[:, 1] >= 0  # the force on geom2 is along +normal
         foot = np.where(on_geom2, feet_of[:, 1], feet_of[:, 0])  # -1: not a foot's contact
         keep = (foot >= 0) & (contacts.efc_address[:ncon] >= 0) & (contacts.exclude[:ncon] == 0)
-        index: np.ndarray | None
-        if keep.all():  # the usual case: every contact is a sole's, in the solver
-            index = None  # all of them, in order
-            frames = contacts.frame[:ncon].reshape(-1, 3, 3)  # rows: normal, tangents
-            points = contacts.pos[:ncon]
-        else:
-            index = np.flatnonzero(keep)
-            on_geom2, foot = on_geom2[index], foot[index]
-            frames = contacts.frame[index].reshape(-1, 3, 3)
-            points = contacts.pos[index]
+        # the usual case, every contact a sole's and in the solver: a slice (views, no gathers)
+        index: slice | np.ndarray = slice(0, ncon) if keep.all() else np.flatnonzero(keep)
+        on_geom2, foot = on_geom2[index], foot[index]
+        frames = contacts.frame[index].reshape(-1, 3, 3)  # rows: normal, tangents
+        points = contacts.pos[index]
         wrenches = self._contact_wrenches(model, data, index)  # contact frames
         sign = np.where(on_geom2, 1.0, -1.0)
         forces = sign[:, None] * (wrenches[:, None, :3] @ frames)[:, 0]
@@ -136,31 +131,29 @@ class ContactWrenches:
         return feet[0], feet[1], cop, has_cop
 
     def _contact_wrenches(
-        self, model: mujoco.MjModel, data: mujoco.MjData, index: np.ndarray | None
+        self, model: mujoco.MjModel, data: mujoco.MjData, index: slice | np.ndarray
     ) -> np.ndarray:
-        """Wrenches of the contacts ``index`` in their contact frames, shape (n, 6): what
-        ``mj_contactForce`` gives, decoded from ``efc_force`` for all of them at once.
+        """Wrenches of the contacts ``index`` (a slice or an index array) in their contact
+        frames, shape (n, 6): what ``mj_contactForce`` gives, decoded from ``efc_force`` for all
+        of them at once.
 
-        Three-dimensional contacts (normal and two frictional directions, the feet's) are
-        decoded in one go: a pyramidal cone's four edge forces ``f`` give the normal force
-        ``sum f`` and the frictional ones ``mu_i (f_2i - f_2i+1)`` (``mju_decodePyramid``);
-        an elliptic cone's rows are the forces. Others go through ``mj_contactForce``.
-        ``index`` None: every contact, in order (no gathers).
+        A 3D contact (the soles' boxes on the floor) is decoded in one go: a pyramidal cone's
+        four edge forces ``f`` give the normal force ``sum f`` and the frictional ones
+        ``mu_i (f_2i - f_2i+1)`` (``mju_decodePyramid``); an elliptic cone's rows are the
+        forces. Others go through ``mj_contactForce``.
         """
-        contacts, ncon = data.contact, data.ncon
-        dim = contacts.dim[:ncon] if index is None else contacts.dim[index]
+        contacts = data.contact
+        dim = contacts.dim[index]
         wrenches = np.zeros((len(dim), 6))
         three = dim == 3
-        others: np.ndarray | tuple[()] = ()
         if three.all():  # the feet's contacts: no masks
             selected: slice | np.ndarray = slice(None)
-            if index is None:
-                rows, friction = contacts.efc_address[:ncon], contacts.friction[:ncon]
-            else:
-                rows, friction = contacts.efc_address[index], contacts.friction[index]
+            rows, friction = contacts.efc_address[index], contacts.friction[index]
+            positions = others = np.zeros(0, dtype=int)
         else:
-            index = np.arange(ncon) if index is None else index
-            rows, friction = contacts.efc_address[index[three]], contacts.friction[index[three]]
+            positions = np.arange(data.ncon)[index]  # contact numbers
+            rows = contacts.efc_address[positions[three]]
+            friction = contacts.friction[positions[three]]
             selected, others = three, np.flatnonzero(~three)
         if self._pyramidal:
             edges = data.efc_force[rows[:, None] + _EDGES]
@@ -169,7 +162,7 @@ class ContactWrenches:
         else:
             wrenches[selected, :3] = data.efc_force[rows[:, None] + _EDGES[:3]]
         for row in others:
-            mujoco.mj_contactForce(model, data, int(index[row]), wrenches[row])  # type: ignore[index]
+            mujoco.mj_contactForce(model, data, int(positions[row]), wrenches[row])
         self._moments = True if len(others) else None
         return wrenches
 
