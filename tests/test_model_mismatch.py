@@ -101,6 +101,23 @@ def test_servo_strength_scales_gains_and_torque_limits():
     assert sags[0.5] > 1.5 * sags[1.0]
 
 
+def test_servo_strength_scales_the_torque_motors():
+    """In torque mode a joint gives that share of the torque it is asked, within limits
+    scaled alike; the servos' test above cannot see the motors (no bias)."""
+    robot = get_robot("bioloid-like")
+    nominal = Simulation(robot, sensors=SensorModel.ideal(), actuation="torque").model
+    weak = Simulation(
+        robot,
+        sensors=SensorModel.ideal(),
+        actuation="torque",
+        model_mismatch=ModelMismatch(servo_strength=0.7),
+    ).model
+    assert np.all(nominal.actuator_biastype == 0)  # motors: no position feedback
+    np.testing.assert_allclose(weak.actuator_gainprm[:, 0], 0.7 * nominal.actuator_gainprm[:, 0])
+    np.testing.assert_allclose(weak.actuator_forcerange, 0.7 * nominal.actuator_forcerange)
+    np.testing.assert_allclose(weak.actuator_ctrlrange, nominal.actuator_ctrlrange)
+
+
 def test_the_robot_the_controller_uses_is_left_alone():
     """The perturbation changes the simulator's copy only: the robot's MuJoCo model, its
     Pinocchio model (masses, inertias, CoM) and its servo gains are untouched."""

@@ -104,6 +104,39 @@ def test_double_support_cells_compare_the_adaptive_controllers_with_mpc(bounds):
     assert line.split("|")[2:7] == [" 4 ", f" {0.62 / 0.6:.2f} ", " 3 ", " 1 ", " 1 "]
 
 
+def test_the_torque_maps_pair_each_robots_cells_in_both_modes():
+    from mpcwalk.experiments.push_map.experiment import PushMapTorque
+    from mpcwalk.experiments.push_map.modes import mode_rows, mode_table
+
+    maps = PushMapTorque().config().maps
+    pairs = {(m.robot, m.actuation): m for m in maps}
+    assert set(pairs) == {(r, a) for r in ("bioloid-like", "g1") for a in ("position", "torque")}
+    for robot in ("bioloid-like", "g1"):
+        position, torque = pairs[(robot, "position")], pairs[(robot, "torque")]
+        assert {c.case_id for c in push_map_cases(position)} == {
+            c.case_id for c in push_map_cases(torque)
+        }
+        assert torque.folder_name == f"{robot}-torque" and position.folder_name == robot
+    assert "actuation" not in GRID.settings()  # the maps run before keep their fingerprint
+    with pytest.raises(ConfigurationError, match="actuation must be one of"):
+        PushMapConfig(actuation="hydraulic")
+    cells = {(0.0, 0.25, 1.0): 0.4, (90.0, 0.25, 1.0): 0.2, (180.0, 0.25, 1.0): 0.5}
+    position = _rows({"mpc": cells, "paper-m": cells})
+    torque = _rows(
+        {
+            "mpc": {cell: 1.2 * v for cell, v in cells.items()},
+            "paper-m": {**cells, (0.0, 0.25, 1.0): 0.2},
+        }
+    )
+    rows = {row["controller"]: row for row in mode_rows(position, torque)}
+    assert rows["mpc"]["ratio"] == pytest.approx(1.2) and rows["mpc"]["below"] == 0
+    assert rows["paper-m"]["worst"] == pytest.approx(0.5) and rows["paper-m"]["below"] == 1
+    assert rows["paper-m"]["torque"] == pytest.approx(0.2)  # median of 0.2, 0.2, 0.5
+    text = mode_table({("g1", "position"): position, ("g1", "torque"): torque})
+    assert "`g1`" in text and "1.20" in text
+    assert mode_table({("g1", "position"): position}) == "No robot was mapped in both modes.\n"
+
+
 def test_joined_maps_must_share_the_robot_and_the_grid(tmp_path):
     folder = tmp_path / "other"
     with pytest.raises(ConfigurationError, match="expected the folder of a push map"):

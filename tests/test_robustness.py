@@ -74,6 +74,29 @@ def test_the_terrain_part_is_the_whole_matrixs_terrain_worlds():
         load_matrix_config(variant="lava")
 
 
+def test_the_torque_matrix_is_the_whole_matrixs_flat_worlds_torque_controlled(tmp_path):
+    full = load_matrix_config()
+    torque = load_matrix_config(variant="torque")
+    flat = tuple(f for f in FACTORS if f not in TERRAIN_FACTORS)
+    assert torque.actuation == "torque" and full.actuation == "position"
+    assert torque.factors == flat and list(torque.robots) == list(full.robots)
+    assert all(p.controllers == ("paper-m", "mpc", "mpc-steps") for p in torque.robots.values())
+    assert torque.settings()["actuation"] == "torque"
+    assert "actuation" not in full.settings()  # the position matrix keeps its fingerprint
+    mine = robot_worlds(torque, 2)
+    assert mine == [w for w in robot_worlds(full, 2) if set(w.factors) <= set(flat)]
+    cases = plan_matrix(dataclasses.replace(torque, robots={"g1": torque.robots["g1"]})).cases
+    assert {case.world.actuation for case in cases} == {"torque"}
+    position = plan_matrix(dataclasses.replace(full, robots={"g1": full.robots["g1"]})).cases
+    ids = {case.case_id for case in position}
+    # the same walks as the position matrix's, their actuation apart
+    assert {case.replace(actuation="position").case_id for case in cases} <= ids
+    path = tmp_path / "matrix.toml"
+    path.write_text(DEFAULT_MATRIX.read_text().replace('"torque"\nfactors', '"hydraulic"\nfactors'))
+    with pytest.raises(ConfigurationError, match="actuation must be one of"):
+        load_matrix_config(path, variant="torque")
+
+
 def test_the_terrain_worlds_are_built_to_the_robots_size():
     """Rise and gap a share of the leg length, treads and stones 1.5 sole lengths, a pit 0.2
     leg lengths deep, the initial stance on level ground (none skipped)."""

@@ -33,10 +33,22 @@ def _robustness_terrain() -> Experiment:
     return RobustnessTerrain()
 
 
+def _robustness_torque() -> Experiment:
+    from mpcwalk.experiments.robustness.experiment import RobustnessTorque
+
+    return RobustnessTorque()
+
+
 def _push_map() -> Experiment:
     from mpcwalk.experiments.push_map.experiment import PushMap
 
     return PushMap()
+
+
+def _push_map_torque() -> Experiment:
+    from mpcwalk.experiments.push_map.experiment import PushMapTorque
+
+    return PushMapTorque()
 
 
 def _capture_map() -> Experiment:
@@ -86,9 +98,19 @@ EXPERIMENTS: Registry[Experiment] = Registry(
             _robustness_terrain,
         ),
         Entry(
+            "robustness_torque",
+            "the robustness matrix with the robots torque-controlled (inverse dynamics)",
+            _robustness_torque,
+        ),
+        Entry(
             "push_map",
             "the largest push each controller survives per direction, phase and speed",
             _push_map,
+        ),
+        Entry(
+            "push_map_torque",
+            "the push maps in torque and in position mode, cell by cell",
+            _push_map_torque,
         ),
         Entry(
             "capture_map",

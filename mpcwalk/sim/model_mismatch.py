@@ -58,7 +58,8 @@ class ModelMismatch:
             take the larger of the two geoms', so both are set), in [0.01, 10]; None keeps
             the model's.
         servo_strength: Factor on the position servos' stiffness, damping and torque
-            limits, in [0.1, 10].
+            limits, and on the torque motors' gain and limits (a joint gives that share of
+            the torque it is asked), in [0.1, 10].
 
     Raises:
         SimulationModelError: A value out of its range (the message gives the range).
@@ -135,6 +136,11 @@ class ModelMismatch:
         model.actuator_gainprm[servos, 0] *= self.servo_strength  # kp
         model.actuator_biasprm[servos, 1:3] *= self.servo_strength  # -kp, -kv
         model.actuator_forcerange[servos] *= self.servo_strength
+        motors = (model.actuator_gaintype == mujoco.mjtGain.mjGAIN_FIXED) & (
+            model.actuator_biastype == mujoco.mjtBias.mjBIAS_NONE
+        )
+        model.actuator_gainprm[motors, 0] *= self.servo_strength  # torque per command
+        model.actuator_forcerange[motors] *= self.servo_strength
         mujoco.mj_setConst(model, mujoco.MjData(model))  # subtree masses and the like
 
 

@@ -21,6 +21,7 @@ from typing import Any
 
 from mpcwalk.experiments.survival import find_largest_survived, survived
 from mpcwalk.footsteps.capturability import capture_impulse_bound
+from mpcwalk.sim.actuation import check_actuation
 from mpcwalk.sweep import Sweep
 from mpcwalk.walking.sweep_cases import worker_robot
 
@@ -56,10 +57,23 @@ class PushMapConfig:
     relative_tolerance: float = 0.1
     control_period: float = 0.01
     seed: int = 0
+    actuation: str = "position"
+
+    def __post_init__(self) -> None:
+        check_actuation(self.actuation)
+
+    @property
+    def folder_name(self) -> str:
+        """The map's sub-folder: the robot's name, with the actuation unless position."""
+        return self.robot if self.actuation == "position" else f"{self.robot}-{self.actuation}"
 
     def settings(self) -> dict[str, Any]:
-        """The configuration as JSON."""
-        return asdict(self)
+        """The configuration as JSON (position servos, the default, unsaid: the maps run
+        before torque control keep their fingerprint)."""
+        values = asdict(self)
+        if self.actuation == "position":
+            del values["actuation"]
+        return values
 
 
 @dataclass(frozen=True)
@@ -139,6 +153,7 @@ def run_push_case(case: PushCase) -> dict[str, Any]:
             control_period=config.control_period,
             pushes=((start, config.push_duration, fx, fy, 0.0),),
             seed=config.seed,
+            **({} if config.actuation == "position" else {"actuation": config.actuation}),
         )
         return survived(run_walk(spec, robot=robot))
 

@@ -27,17 +27,17 @@ class PushMapsConfig:
     mode: str = "full"
 
 
-def load_push_maps(path: str | Path, *, quick: bool = False) -> PushMapsConfig:
-    """Read the maps from TOML; ``quick`` keeps the ``[quick]`` robots and applies the other
-    keys of ``[quick]`` to their maps.
+def load_push_maps(path: str | Path, *, quick: bool = False, table: str = "maps") -> PushMapsConfig:
+    """Read the maps of the array of tables ``table`` from TOML; ``quick`` keeps the
+    ``[quick]`` robots and applies the other keys of ``[quick]`` to their maps.
 
     Raises:
-        ConfigurationError: An unknown key.
+        ConfigurationError: An unknown key, or an unknown actuation.
     """
     data, small = read_config(path, quick=quick)
     names = [f.name for f in fields(PushMapConfig)]
     maps = []
-    for values in data.get("maps", []):
+    for values in data.get(table, []):
         unknown_keys(values, names, "maps")
         if quick and values["robot"] not in small.get("robots", [values["robot"]]):
             continue
@@ -89,7 +89,7 @@ class PushMap(Experiment):
         command = command or self.command(out, quick=quick)
         runs: list[SweepRun] = []
         for one in config.maps:
-            folder = out / one.robot
+            folder = out / one.folder_name
             run = run_sweep(
                 push_map_sweep(one),
                 folder,
@@ -145,18 +145,46 @@ class PushMap(Experiment):
             shown = sorted(p.name for p in folder.glob("push_*.png"))
             write_push_report(folder, rows, config, runs, figures=shown)
             robot = load_robot(config.robot, visual=False)
+            mode = "" if config.actuation == "position" else f" ({config.actuation} control)"
             parts += [
-                f"## {config.robot}\n",
+                f"## {config.robot}{mode}\n",
                 f"Every table, goal and figure: [{folder.name}/report.md]({folder.name}/report.md).\n",
                 summary_table(rows, lipm_bounds(robot, config)),
             ]
+        parts += self.extra_sections(out)
         path = out / "report.md"
         path.write_text("\n".join(parts))
         return path
 
+    def extra_sections(self, out: Path) -> list[str]:
+        """Sections of ``out/report.md`` after the maps' (none here)."""
+        return []
+
     @staticmethod
     def _folders(out: str | Path) -> list[Path]:
         return sorted(p.parent for p in Path(out).glob("*/sweep.json"))
+
+
+class PushMapTorque(PushMap):
+    """The push maps with the robots torque-controlled beside the same maps with position
+    servos, in one run (the ``[[modes]]`` maps of the config): each controller's largest
+    push per cell in both modes, and their ratio."""
+
+    name = "push_map_torque"
+    summary = "the push maps in torque and in position mode, cell by cell"
+
+    def config(self, *, quick: bool = False) -> PushMapsConfig:
+        return load_push_maps(self.config_file, quick=quick, table="modes")
+
+    def extra_sections(self, out: Path) -> list[str]:
+        from mpcwalk.experiments.push_map.modes import mode_table
+
+        maps = {}
+        for folder in self._folders(out):
+            settings, rows = read_table(folder)
+            config = _map_config(settings)
+            maps[(config.robot, config.actuation)] = rows
+        return ["## Torque against position control\n", mode_table(maps)]
 
 
 def _map_config(settings: dict[str, Any]) -> PushMapConfig:
@@ -167,4 +195,4 @@ def _map_config(settings: dict[str, Any]) -> PushMapConfig:
     return PushMapConfig(**values)
 
 
-__all__ = ["PushMap", "PushMapsConfig", "load_push_maps"]
+__all__ = ["PushMap", "PushMapTorque", "PushMapsConfig", "load_push_maps"]

@@ -1,7 +1,7 @@
 """The robustness matrix's configuration: robots, controllers, factors and their ranges,
 read from the ``config.toml`` beside this module (:func:`load_matrix_config`), with one of
 its variant tables over it (``[quick]``: the test suite's; ``[terrain_only]``: the terrain
-factors alone)."""
+factors alone; ``[torque]``: the robots driven by torque motors and the inverse dynamics)."""
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -11,6 +11,7 @@ from typing import Any
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.experiments.protocol import config_path, mode_name, read_config
 from mpcwalk.experiments.robustness.terrains import TerrainLayout
+from mpcwalk.sim.actuation import check_actuation
 
 DEFAULT_MATRIX = config_path("mpcwalk.experiments.robustness")
 
@@ -42,6 +43,7 @@ class MatrixConfig:
     factors: tuple[str, ...] | None = None
     terrain: TerrainLayout = field(default_factory=TerrainLayout)
     variant: str | None = None
+    actuation: str = "position"
 
     def settings(self) -> dict[str, Any]:
         """The parameters as JSON (the sweep's fingerprint)."""
@@ -60,7 +62,7 @@ class MatrixConfig:
             "factors": None if self.factors is None else list(self.factors),
             "terrain": vars(self.terrain),
             "variant": self.variant,
-        }
+        } | ({} if self.actuation == "position" else {"actuation": self.actuation})
 
 
 def load_matrix_config(
@@ -70,7 +72,8 @@ def load_matrix_config(
     ``"terrain_only"``), then ``quick`` its ``[quick]`` table. A variant table holds
     ``robots``, ``controllers``, ``nb_steps``, ``levels``, ``combinations``,
     ``nominal_seeds``, ``factors`` (the factors of the worlds, default: all), ranges of
-    ``[factors]`` and ``terrain``, a table of entries of ``[terrain]``.
+    ``[factors]``, ``terrain``, a table of entries of ``[terrain]``, and ``actuation``
+    (:data:`~mpcwalk.sim.actuation.ACTUATIONS`, default ``"position"``).
 
     Raises:
         ConfigurationError: A malformed table, or a variant the file does not hold.
@@ -109,6 +112,7 @@ def load_matrix_config(
             factors=None if factors is None else tuple(str(f) for f in factors),
             terrain=TerrainLayout.from_table({**data.get("terrain", {}), **layout}),
             variant=variant,
+            actuation=check_actuation(overlay.get("actuation", "position")),
         )
     except (KeyError, TypeError, ValueError) as error:
         raise ConfigurationError(f"Malformed matrix file {path}: {error!r}.") from None

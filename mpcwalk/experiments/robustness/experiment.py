@@ -1,6 +1,7 @@
 """The robustness matrix as experiments of the registry: ``robustness`` (every factor) and
 ``robustness_terrain`` (the terrain factors alone: the ``[terrain_only]`` table of the
-matrix's ``config.toml``)."""
+matrix's ``config.toml``) and ``robustness_torque`` (the other factors, the robots driven by
+torque motors: its ``[torque]`` table)."""
 
 import json
 from pathlib import Path
@@ -65,6 +66,15 @@ class RobustnessTerrain(Robustness):
 
     def config(self, *, quick: bool = False) -> MatrixConfig:
         return load_matrix_config(self.config_file, quick=quick, variant=self.variant)
+
+
+class RobustnessTorque(RobustnessTerrain):
+    """The robustness matrix in torque mode: the same worlds but the terrains, every robot
+    driven by torque motors fed by the whole-body inverse dynamics (the ``[torque]`` table)."""
+
+    name = "robustness_torque"
+    summary = "the robustness matrix with the robots torque-controlled (inverse dynamics)"
+    variant = "torque"
 
 
 def matrix_header(settings: dict[str, Any], runs: list[dict], nb_cases: int) -> str:

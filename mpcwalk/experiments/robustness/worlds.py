@@ -136,6 +136,7 @@ def world_case(robot_name: str, plan: RobotPlan, controller: str, world: World, 
         seed=world.seed,
         control_period=config.control_period,
         labels=labels,
+        **({} if config.actuation == "position" else {"actuation": config.actuation}),
         **changes,
     )
 
