@@ -181,10 +181,10 @@ def compose(payload: dict) -> str:
     d = payload.get("durations", {})
     stages = ", ".join(f"{k} {v / 60:.1f} min" for k, v in d.items())
     config = payload["config"]
+    command = payload.get("command") or "mpcwalk bench solvers --families inverse-dynamics"
     parts = [
         "# Solver benchmark: the inverse-dynamics QP of torque control",
-        f"Command: `{payload.get('command') or 'mpcwalk bench solvers --families inverse-dynamics --out DIR'}` "
-        f"({payload.get('date', '')}; stages: {stages}).",
+        f"Command: `{command}` ({payload.get('date', '')}; stages: {stages}).",
         f"Machine: {payload.get('machine', '')}. Timing: one Ray timing actor (one CPU, "
         "single-threaded numerical libraries) timed every solve, one at a time; the walks "
         "ran before, one Ray task at a time, the in-loop walks after, one at a time. "

@@ -14,6 +14,7 @@ largest residual of the floating base's six equations of motion [N, N m].
 """
 
 import math
+from typing import cast
 
 import numpy as np
 import scipy.sparse as sp
@@ -32,8 +33,9 @@ from mpcwalk.ik.dynamics_program import (
     DynamicsProgram,
     dynamics_solver_names,
 )
+from mpcwalk.qp.program import FixedPatternProgram
 from mpcwalk.qp.result import QPResult, kkt_residuals
-from mpcwalk.qp.solvers.base import failure
+from mpcwalk.qp.solvers.base import QPSolver, failure
 from mpcwalk.qp.solvers.registry import make_solver
 
 #: The reference solution's back-end, the first one installed: dual active-set solvers,
@@ -82,7 +84,8 @@ class DynamicsSolves:
         installed = dynamics_solver_names()
         for name in REFERENCE_BACKENDS:
             if name in installed:
-                result = make_solver(name).solve(self.program(problem.qp))
+                program = cast(FixedPatternProgram, self.program(problem.qp))
+                result = make_solver(name).solve(program)
                 if result.success and result.x is not None:
                     return np.array(result.x)
         return None
@@ -125,8 +128,8 @@ class DynamicsSolves:
             result = failure(backend, f"error: {text}", level.runtime)
         return row | _judge(problem, level, result, reference, warmup)
 
-    def _tick(self, solver, values: DynamicsQPValues, previous) -> QPResult:
-        program = self.program(values)
+    def _tick(self, solver: QPSolver, values: DynamicsQPValues, previous) -> QPResult:
+        program = cast(FixedPatternProgram, self.program(values))
         solver.check(program)
         return solver.solve(program, shift=0.0 if values.contacts == previous else 1.0)
 
