@@ -200,3 +200,12 @@ def test_ticks_are_classified_by_the_sole_loads():
         "double",
         "other",
     ]
+
+
+def test_the_walk_command_takes_the_dynamics_solver(tmp_path, capsys):
+    out = str(tmp_path / "walk")
+    walk = ["walk", "--robot", "bioloid-like", "--steps", "2", "--out", out]
+    assert main([*walk, "--actuation", "torque", "--dynamics-solver", "kkt"]) == 2
+    assert "got 'kkt'; the choices on this installation are" in capsys.readouterr().err
+    assert main([*walk, "--dynamics-solver", "quadprog"]) == 2  # a position-servo walk
+    assert "actuation is 'position'" in capsys.readouterr().err

@@ -1,7 +1,7 @@
 """Each back-end as the inverse dynamics' solver in a torque-mode walk in MuJoCo.
 
-The walk is ``mpcwalk walk --robot R --controller mpc --actuation torque`` with the
-back-end chosen by the controller option ``dynamics_solver`` (its registry defaults, as a
+The walk is ``mpcwalk walk --robot R --controller mpc --actuation torque --dynamics-solver
+NAME`` (the controller option ``dynamics_solver``; the back-end's registry defaults, as a
 user gets them), run by the project's walk runner; its inverse dynamics is swapped, before
 the walk, for one that records the result of each tick
 (:func:`~mpcwalk.bench.solvers.dynamics.capture.record_dynamics`, same back-end and gains).

@@ -230,9 +230,8 @@ def compose(payload: dict) -> str:
         f"{config['dynamics_loop_min_success']:.0%} of the {config['dynamics_loop_robot']} "
         "problems (default level, cold) as the inverse dynamics' solver of a torque walk "
         f"(`mpcwalk walk --robot {config['dynamics_loop_robot']} --controller mpc "
-        f"--actuation torque --steps {config['dynamics_loop_nb_steps']}` with "
-        "`controller_options = {dynamics_solver = NAME}`, the back-end's registry "
-        "defaults). ID tick: the whole inverse-dynamics tick (kinematics, QP build, solve, "
+        f"--actuation torque --steps {config['dynamics_loop_nb_steps']} "
+        "--dynamics-solver NAME`, the back-end's registry defaults). ID tick: the whole inverse-dynamics tick (kinematics, QP build, solve, "
         "torques); solve: the back-end's call.",
         loop_table(payload["loops"]) if payload["loops"] else "Not run.",
         "## Settings per tolerance level",
