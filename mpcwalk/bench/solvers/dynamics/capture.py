@@ -303,15 +303,27 @@ class CapturedWalk:
     steps: str
 
 
-def capture_walk(
-    robot: str, *, nb_steps: int, vx: float, control_period: float = 0.01
-) -> CapturedWalk:
+def recorded_torque_walk(
+    robot: str,
+    *,
+    nb_steps: int,
+    vx: float,
+    control_period: float = 0.01,
+    dynamics_solver: str | None = None,
+    keep_states: bool = True,
+):
     """Walk ``robot`` in torque mode (named controller ``mpc``, ``nb_steps`` steps at
-    ``vx`` [m/s] straight ahead, the default sensors and back-end) and record its inverse
-    dynamics."""
+    ``vx`` [m/s] straight ahead, the default sensors; the inverse dynamics on
+    ``dynamics_solver``, None: the default) with a recording inverse dynamics.
+
+    Returns:
+        The :class:`~mpcwalk.walking.result.WalkResult` and the
+        :class:`RecordingInverseDynamics`.
+    """
     from mpcwalk.walking.runner import run_walk
     from mpcwalk.walking.specification import WalkSpec
 
+    options = {} if dynamics_solver is None else {"dynamics_solver": dynamics_solver}
     spec = WalkSpec.build(
         robot,
         controller="mpc",
@@ -319,13 +331,27 @@ def capture_walk(
         nb_steps=nb_steps,
         control_period=control_period,
         actuation="torque",
+        **({"controller_options": options} if options else {}),
     )
     recorders: list[RecordingInverseDynamics] = []
-    result = run_walk(spec, on_controller=lambda c: recorders.append(record_dynamics(c)))
+    result = run_walk(
+        spec, on_controller=lambda c: recorders.append(record_dynamics(c, keep_states=keep_states))
+    )
+    return result, recorders[0]
+
+
+def capture_walk(
+    robot: str, *, nb_steps: int, vx: float, control_period: float = 0.01
+) -> CapturedWalk:
+    """Walk ``robot`` in torque mode (:func:`recorded_torque_walk`, the default back-end)
+    and record its inverse dynamics."""
+    result, recorder = recorded_torque_walk(
+        robot, nb_steps=nb_steps, vx=vx, control_period=control_period
+    )
     metrics = result.metrics
     return CapturedWalk(
         robot,
-        recorders[0],
+        recorder,
         control_period,
         bool(metrics.fell),
         f"{metrics.steps_completed}/{metrics.steps_planned}",

@@ -4,12 +4,13 @@ The walk is ``mpcwalk walk --robot R --controller mpc --actuation torque --dynam
 NAME`` (the controller option ``dynamics_solver``; the back-end's registry defaults, as a
 user gets them), run by the project's walk runner; its inverse dynamics is swapped, before
 the walk, for one that records the result of each tick
-(:func:`~mpcwalk.bench.solvers.dynamics.capture.record_dynamics`, same back-end and gains).
+(:func:`~mpcwalk.bench.solvers.dynamics.capture.recorded_torque_walk`, same back-end and
+gains).
 """
 
 import numpy as np
 
-from mpcwalk.bench.solvers.dynamics.capture import record_dynamics
+from mpcwalk.bench.solvers.dynamics.capture import recorded_torque_walk
 
 #: The columns of an in-loop run, in the order of the report's table.
 LOOP_FIELDS = (
@@ -45,31 +46,22 @@ def run_dynamics_loop(
     """One torque-mode walk with ``backend`` as the inverse dynamics' solver (keys:
     :data:`LOOP_FIELDS`; times in [us], the whole inverse-dynamics tick and the back-end's
     solve); an error of the set-up or the back-end ends the run as a failure, never raises."""
-    from mpcwalk.walking.runner import run_walk
-    from mpcwalk.walking.specification import WalkSpec
-
     run: dict = dict.fromkeys(LOOP_FIELDS) | {"backend": backend, "robot": robot}
-    recorders: list = []
     try:
-        spec = WalkSpec.build(
+        result, recorder = recorded_torque_walk(
             robot,
-            controller="mpc",
-            command=(vx, 0.0, 0.0),
             nb_steps=nb_steps,
+            vx=vx,
             control_period=control_period,
-            actuation="torque",
-            controller_options={"dynamics_solver": backend},
-        )
-        result = run_walk(
-            spec,
-            on_controller=lambda c: recorders.append(record_dynamics(c, keep_states=False)),
+            dynamics_solver=backend,
+            keep_states=False,
         )
     except Exception as error:
         run["error"] = f"{type(error).__name__}: {' '.join(str(error).split())[:140]}"
         run["fell"] = True
         return run
     metrics = result.metrics
-    results = recorders[0].results
+    results = recorder.results
     ticks = np.array([r.solve_time for r in results]) * 1e6
     solves = np.array([r.qp_time for r in results]) * 1e6
     run.update(
