@@ -16,7 +16,7 @@ import scipy.sparse as sp
 from mpcwalk.bench.solvers.backends.registry import is_applicable, supports_warm_start
 from mpcwalk.bench.solvers.backends.settings import backend_settings
 from mpcwalk.bench.solvers.benchmark import make_cases, run_solver_benchmark
-from mpcwalk.bench.solvers.config import SolverBenchConfig
+from mpcwalk.bench.solvers.config import DYNAMICS_FAMILY, SolverBenchConfig
 from mpcwalk.bench.solvers.loops.plants import mujoco_walk_runner
 from mpcwalk.bench.solvers.peers.qpbenchmark_export import (
     build_problem,
@@ -51,7 +51,7 @@ def problems():
 def reduced_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("solvers")
     config = SolverBenchConfig(
-        families=("mpc", "static-qp"),
+        families=("mpc", "static-qp", DYNAMICS_FAMILY),  # the MPC rows, then the ID stage
         walks=("turning",),
         nb_steps=4,
         nb_nominal=1,
@@ -68,6 +68,11 @@ def reduced_run(tmp_path_factory):
         loop_pushes=1,
         loop_nb_steps=4,
         loop_backends_max_time=1e-3,
+        dynamics_robots=("bioloid-like",),
+        dynamics_nb_steps=2,
+        dynamics_nb_per_phase=1,
+        dynamics_nb_pushed=0,
+        dynamics_loop_nb_steps=2,
     )
     summary = run_solver_benchmark(config, out, progress=False, command="pytest")
     return out, config, summary, read_results(out / RESULTS_FILE)
@@ -136,6 +141,12 @@ def test_report_has_the_tables_and_figures(reduced_run):
     for figure in ("success_rates.png", "time_vs_horizon.png", "tick_histograms.png"):
         assert (out / figure).stat().st_size > 10_000
     assert "| lipm | daqp | dense |" in report
+    # the inverse-dynamics stage: its own report, a section of this one
+    assert "## Inverse dynamics (torque control)" in report
+    assert "[inverse_dynamics.md](inverse_dynamics.md)" in report
+    dynamics = (out / "inverse_dynamics.md").read_text()
+    assert "| bioloid-like | double | 1 | 36 x 78 (18 eq.) |" in dynamics
+    assert "| daqp | 100% | - |" in dynamics and "| osqp-direct | 100% | 100% |" in dynamics
     if mujoco_walk_runner() is not None:
         assert "| daqp | dense | 450 |" in report  # MuJoCo: 4 steps + closing one, 4.5 s
         assert "| no | 5/5 |" in report

@@ -426,8 +426,22 @@ def _parsed(spec: WalkSpec) -> WalkSpec:
         WalkSpec.build(
             "bioloid-like", generator="analytic", feedback=False, command=(0.1, 0, 0), nb_steps=2
         ),
+        WalkSpec.build(
+            "bioloid-like",
+            controller="mpc",
+            command=(0.1, 0.0, 0.0),
+            nb_steps=3,
+            actuation="torque",
+            controller_options={"dynamics_solver": "quadprog"},  # --dynamics-solver
+        ),
     ],
-    ids=["named-pushes-world", "named-timing-ideal", "custom-by-parts", "custom-open-loop"],
+    ids=[
+        "named-pushes-world",
+        "named-timing-ideal",
+        "custom-by-parts",
+        "custom-open-loop",
+        "torque-dynamics-solver",
+    ],
 )
 def test_the_command_line_of_a_spec_gives_the_spec_back(spec):
     again = _parsed(spec).replace(progress=False)  # the command shows a progress bar

@@ -27,7 +27,11 @@ def add_parser(bsub) -> argparse.ArgumentParser:
     p.add_argument("--quick", action="store_true", help="reduced run (a few minutes)")
     p.add_argument("--out", type=Path, required=True, help="output directory")
     p.add_argument("--backends", help="comma-separated back-ends (default: all installed)")
-    p.add_argument("--families", help="comma-separated problem families")
+    p.add_argument(
+        "--families",
+        help="comma-separated problem families (mpc, mpc-dcm, mpc-tick, static-qp; "
+        "inverse-dynamics: the QP of torque control, its own stage: alone, only it runs)",
+    )
     p.add_argument("--walks", help="comma-separated walks (straight, turning, sideways)")
     p.add_argument("--levels", help="comma-separated tolerance levels (default, low, mid, high)")
     p.add_argument("--horizons", help="comma-separated horizons of the sweep [samples]")

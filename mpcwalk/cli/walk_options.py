@@ -54,6 +54,13 @@ def add_walk_options(p: argparse.ArgumentParser) -> None:
         help="QP solver of the QP generators (list: mpcwalk solvers; default: the generator's)",
     )
     c.add_argument(
+        "--dynamics-solver",
+        default=S,
+        metavar="NAME",
+        help="QP solver of the inverse dynamics of a torque walk (--actuation torque; a name "
+        "of mpcwalk solvers that takes equalities and inequalities; default: daqp-direct)",
+    )
+    c.add_argument(
         "--stabilizer",
         default=S,
         metavar="NAME",
@@ -212,6 +219,9 @@ def spec_from_args(args: argparse.Namespace, *, out: Path) -> Any:
     if "solver" in given:
         solver = {"solver": given["solver"]}
         spec = spec.replace(generator_options={**spec.controller.generator_options, **solver})
+    if "dynamics_solver" in given:
+        dynamics = {"dynamics_solver": given["dynamics_solver"]}
+        spec = spec.replace(controller_options={**spec.controller.controller_options, **dynamics})
     spec = _stabilizers(spec, given, by_hand=base_file is None and "controller" not in given)
     if (
         base_file is None

@@ -33,6 +33,7 @@ from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps import Side
 from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.ik.dynamics_program import DEFAULT_DYNAMICS_SOLVER, check_dynamics_solver
 from mpcwalk.ik.dynamics_targets import DynamicsTargets
 from mpcwalk.ik.inverse_dynamics import InverseDynamicsQP
 from mpcwalk.models.com_state import ComState
@@ -105,14 +106,21 @@ class TorqueController(WalkingController):
         generator: Pattern generator (as :class:`WalkingController`).
         schedule: Footsteps and contact phases.
         inverse_dynamics: The inverse-dynamics QP (default: ``InverseDynamicsQP(robot)``
-            with its posture gains capped for ``state_delay``).
+            on ``dynamics_solver``, with its posture gains capped for ``state_delay``).
+        dynamics_solver: Back-end of the default inverse dynamics' QP, one of
+            :func:`~mpcwalk.ik.dynamics_program.dynamics_solver_names` (``"daqp-direct"``,
+            ``"quadprog"``, ``"proxqp"``...); a walk sets it with
+            ``controller_options = {dynamics_solver = "NAME"}``. Not with
+            ``inverse_dynamics``, which has its own.
         ramp_time: Duration [s] of the load ramp of a sole at touch-down and lift-off, >= 0.
         state_delay: Age [s] of the estimated state the torques act on
             (:func:`state_delay`; default: one control period, the simulator's exact state).
         options: The other options of :class:`WalkingController`.
 
     Raises:
-        ConfigurationError: A negative ramp time, or the options' own errors.
+        ConfigurationError: A negative ramp time, an unknown ``dynamics_solver`` (the
+            message lists the choices), one given with ``inverse_dynamics``, or the options'
+            own errors.
     """
 
     def __init__(
@@ -122,6 +130,7 @@ class TorqueController(WalkingController):
         schedule: ContactSchedule,
         *,
         inverse_dynamics: InverseDynamicsQP | None = None,
+        dynamics_solver: str | None = None,
         ramp_time: float = 0.04,
         state_delay: float | None = None,
         **options: Any,
@@ -132,7 +141,14 @@ class TorqueController(WalkingController):
         self.ramp_time = float(ramp_time)
         self.state_delay = self.control_period if state_delay is None else state_delay
         if inverse_dynamics is None:
-            inverse_dynamics = InverseDynamicsQP(robot, state_delay=self.state_delay)
+            solver = check_dynamics_solver(dynamics_solver or DEFAULT_DYNAMICS_SOLVER)
+            inverse_dynamics = InverseDynamicsQP(robot, solver=solver, state_delay=self.state_delay)
+        elif dynamics_solver is not None:
+            raise ConfigurationError(
+                f"dynamics_solver={dynamics_solver!r} and inverse_dynamics given together: "
+                "the inverse dynamics has its own back-end (InverseDynamicsQP(robot, "
+                "solver=...)); give one of them."
+            )
         self.inverse_dynamics = inverse_dynamics
         self.dynamics_failures = 0
         """Ticks whose inverse dynamics failed (the previous torques were held)."""

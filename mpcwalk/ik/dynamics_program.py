@@ -7,14 +7,47 @@ OSQP form ``l <= A x <= u`` with equalities first, dense sparsity patterns and v
 counters) for a dense QP whose values change every tick. Its shape is fixed by the contact
 set (which soles carry a wrench), so the inverse dynamics keeps one program per contact set:
 a back-end set up for one is set up again when the contacts change.
+
+:func:`dynamics_solver_names` lists the back-ends of the registry that take such a program
+(equalities and inequalities) and :func:`check_dynamics_solver` refuses any other name.
 """
 
 import numpy as np
 import qpsolvers
 import scipy.sparse as sp
 
-from mpcwalk.exceptions import NotReset
+from mpcwalk.exceptions import ConfigurationError, NotReset
 from mpcwalk.qp.fixed_pattern import FixedPattern
+from mpcwalk.qp.solvers.registry import solver_names
+
+#: Back-ends of the registry that cannot take the inverse dynamics' QP (``kkt``: no
+#: inequality rows).
+NO_INEQUALITIES = frozenset({"kkt"})
+#: The back-end of the inverse dynamics unless one is chosen.
+DEFAULT_DYNAMICS_SOLVER = "daqp-direct"
+
+
+def dynamics_solver_names() -> list[str]:
+    """Back-ends of :data:`~mpcwalk.qp.solvers.registry.SOLVERS` installed here that take
+    the inverse dynamics' QP (equality and inequality rows), in the registry's order."""
+    return [name for name in solver_names() if name not in NO_INEQUALITIES]
+
+
+def check_dynamics_solver(name: object) -> str:
+    """``name`` if it is one of :func:`dynamics_solver_names`.
+
+    Raises:
+        ConfigurationError: Any other value; the message lists the choices.
+    """
+    choices = dynamics_solver_names()
+    if not isinstance(name, str) or name not in choices:
+        raise ConfigurationError(
+            f"dynamics_solver must be a QP back-end that takes equality and inequality "
+            f"constraints, got {name!r}; the choices on this installation are "
+            f"{', '.join(choices)} (default {DEFAULT_DYNAMICS_SOLVER!r}; mpcwalk solvers "
+            "lists them with their install hints)."
+        )
+    return name
 
 
 def _dense_pattern(nb_rows: int, nb_cols: int, upper: bool = False) -> FixedPattern:

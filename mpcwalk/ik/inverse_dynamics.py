@@ -86,8 +86,8 @@ class InverseDynamicsQP:
 
     Raises:
         SolverNotFound: ``solver`` is not installed.
-        ConfigurationError: A back-end that cannot take this QP (equalities: ``kkt`` takes
-            no inequalities, ``daqp-direct`` no equalities), or a parameter out of range.
+        ConfigurationError: A back-end that cannot take this QP (``kkt`` takes
+            no inequalities), or a parameter out of range.
     """
 
     def __init__(

@@ -26,6 +26,7 @@ from mpcwalk.control.controller import WalkingController
 from mpcwalk.control.stabilizers import StabilizerChain, make_stabilizer
 from mpcwalk.control.stabilizers.base import Stabilizer
 from mpcwalk.control.torque_controller import TorqueController
+from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import StepTiming
 from mpcwalk.footsteps.landing_bands import tread_bands
 from mpcwalk.gait.contact_schedule import ContactSchedule
@@ -33,12 +34,18 @@ from mpcwalk.gait.gait_defaults import GaitDefaults
 from mpcwalk.generators import generator_class
 from mpcwalk.generators.mpc_steps import FootstepMpcGenerator
 from mpcwalk.generators.registry import check_options
+from mpcwalk.ik.dynamics_program import check_dynamics_solver
 from mpcwalk.ik.targets import IKWeights
 from mpcwalk.ik.upper_body import upper_body_flywheel
 from mpcwalk.ik.whole_body_ik import WholeBodyIK
 from mpcwalk.robot import Robot
 from mpcwalk.terrain import Terrain, TerrainReach
 from mpcwalk.walking.specification import ControllerSpec, PlanSpec
+
+#: Options of :class:`~mpcwalk.control.torque_controller.TorqueController` a walk's
+#: ``controller_options`` may give when its actuation is ``"torque"``: the back-end of the
+#: inverse dynamics' QP.
+TORQUE_OPTIONS = ("dynamics_solver",)
 
 #: Tikhonov damping of the whole-body IK [cost^2] under a gait that holds the CoM above the
 #: support foot (see the module docstring): the posture task's weight squared.
@@ -56,18 +63,31 @@ def build_stabilizer(names: Sequence[str]) -> Stabilizer | None:
     return StabilizerChain(chain) if chain else None
 
 
-def check_controller(spec: ControllerSpec) -> None:
-    """The generator and the options of ``spec``, checked before anything is built.
+def check_controller(spec: ControllerSpec, actuation: str = "position") -> None:
+    """The generator and the options of ``spec``, checked before anything is built; a
+    torque-controlled walk (``actuation`` ``"torque"``) also takes the options of
+    :data:`TORQUE_OPTIONS`.
 
     Raises:
         GeneratorNotFound: Unknown generator.
         ConfigurationError: An option the generator or the controller does not take (the
-            message lists the ones it takes).
+            message lists the ones it takes), a torque option on a position-servo walk, or
+            an unknown ``dynamics_solver`` (the message lists the choices).
     """
     check_options(
         generator_class(spec.generator), spec.generator_options, f"generator '{spec.generator}'"
     )
-    check_options(WalkingController, spec.controller_options, "controller")
+    options = dict(spec.controller_options)
+    torque = sorted(set(options) & set(TORQUE_OPTIONS))
+    if torque and actuation != "torque":
+        raise ConfigurationError(
+            f"controller_options {', '.join(torque)} drive the inverse dynamics of a "
+            f"torque-controlled robot, but the walk's actuation is {actuation!r}; set "
+            "actuation = 'torque' (--actuation torque) or leave them out."
+        )
+    if "dynamics_solver" in options:
+        check_dynamics_solver(options.pop("dynamics_solver"))
+    check_options(WalkingController, options, "controller")
     build_stabilizer(spec.stabilizers)  # the names, checked
 
 
@@ -89,9 +109,10 @@ def build_controller(
     the IK damped by :data:`STATIC_IK_DAMPING`. A torque-controlled robot (``actuation``
     ``"torque"``) gets a :class:`~mpcwalk.control.torque_controller.TorqueController`
     whose posture gain is capped for ``state_delay`` [s], the age of its estimated state
-    (:func:`~mpcwalk.control.torque_controller.state_delay`; None: one control period).
+    (:func:`~mpcwalk.control.torque_controller.state_delay`; None: one control period), on
+    the back-end ``controller_options["dynamics_solver"]`` (default ``"daqp-direct"``).
     """
-    check_controller(spec)
+    check_controller(spec, actuation)
     gait = robot.gait
     options: dict = {
         key: value
@@ -153,6 +174,7 @@ def walk_timing(generator: str, gait: GaitDefaults, plan: PlanSpec) -> StepTimin
 
 __all__ = [
     "STATIC_IK_DAMPING",
+    "TORQUE_OPTIONS",
     "build_controller",
     "build_stabilizer",
     "check_controller",

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from mpcwalk.control.controller import WalkingController
 from mpcwalk.control.torque_controller import state_delay
 from mpcwalk.estimation.estimator import Estimator
 from mpcwalk.footsteps.velocity_planner import VelocityCommand
@@ -47,6 +48,7 @@ def run_walk(
     robot: Robot | None = None,
     observer: Callable[[float, np.ndarray], None] | None = None,
     fall_detector: FallDetector | None = None,
+    on_controller: Callable[[WalkingController], None] | None = None,
 ) -> WalkResult:
     """Simulate a walk of a robot in MuJoCo and measure it.
 
@@ -69,6 +71,9 @@ def run_walk(
             view, :class:`~mpcwalk.viewer.live.LiveView`).
         fall_detector: Fall detector (default: ``FallDetector.for_robot`` on the walk's
             terrain).
+        on_controller: Called once with the controller of the walk when it is built,
+            before it is reset and the walk starts (to look inside it: the solver benchmark
+            records the inverse dynamics' QPs and solve times through it).
 
     Returns:
         The walk, its log, metrics, configuration and resolved specification. A fall ends
@@ -98,7 +103,9 @@ def run_walk(
     elif short:
         spec = spec.replace(**short)
     setup = set_up_walk(spec, robot)
-    result = _walk(setup, observer=observer, fall_detector=fall_detector)
+    result = _walk(
+        setup, observer=observer, fall_detector=fall_detector, on_controller=on_controller
+    )
     disturbances = setup.spec.disturbances
     if disturbances.yaw_reference and disturbances.pushes and not result.metrics.interrupted:
         undisturbed = setup.spec.replace(
@@ -123,6 +130,7 @@ def _walk(
     *,
     observer: Callable[[float, np.ndarray], None] | None = None,
     fall_detector: FallDetector | None = None,
+    on_controller: Callable[[WalkingController], None] | None = None,
 ) -> WalkResult:
     """Build, run, measure and record the walk of ``setup``."""
     spec, robot = setup.spec, setup.robot
@@ -154,6 +162,8 @@ def _walk(
             ),
         ),
     )
+    if on_controller is not None:
+        on_controller(walker)
     simulation = Simulation(
         robot,
         control_period=period,

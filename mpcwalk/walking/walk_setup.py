@@ -160,7 +160,7 @@ def set_up_walk(spec: WalkSpec, robot: Robot | None = None) -> WalkSetup:
     check_walk_terrain(robot, world.terrain)
     if spec.run.video is not None:
         check_video_path(spec.run.video)
-    check_controller(controller)
+    check_controller(controller, world.actuation)
     timing = walk_timing(controller.generator, robot.gait, plan)
     nb_steps = plan.nb_steps
     if nb_steps is None and plan.duration is not None:

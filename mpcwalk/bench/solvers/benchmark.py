@@ -18,7 +18,11 @@ are timed:
    one Ray task at a time (:mod:`~mpcwalk.bench.solvers.loops.candidates`);
 4. qpbenchmark itself on the exported set (reduced: a subset of solvers), on a timing actor
    (:mod:`~mpcwalk.bench.solvers.peers.qpbenchmark_run`);
-5. the report and its figures (:mod:`~mpcwalk.bench.solvers.report.document`).
+5. the inverse-dynamics stage (family ``inverse-dynamics``): the whole-body inverse
+   dynamics' QP of torque control, offline and in the loop, into ``inverse_dynamics.md``
+   and ``.json`` (:mod:`~mpcwalk.bench.solvers.dynamics.stage`); with no other family, it
+   runs alone;
+6. the report and its figures (:mod:`~mpcwalk.bench.solvers.report.document`).
 """
 
 import importlib
@@ -41,6 +45,13 @@ from mpcwalk.bench.solvers.backends.registry import (
     supports_warm_start,
 )
 from mpcwalk.bench.solvers.config import SolverBenchConfig
+from mpcwalk.bench.solvers.dynamics.report import (
+    DYNAMICS_FILE,
+    DYNAMICS_REPORT,
+    read_payload,
+    write_dynamics_report,
+)
+from mpcwalk.bench.solvers.dynamics.stage import run_dynamics_stage
 from mpcwalk.bench.solvers.loops.candidates import run_loops
 from mpcwalk.bench.solvers.peers.qpbenchmark_run import run_qpbenchmark_isolated
 from mpcwalk.bench.solvers.peers.ticks import fast_qpsolvers, tick_benchmark
@@ -192,15 +203,24 @@ def run_solver_benchmark(
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    if not config.mpc_families:  # the inverse-dynamics stage alone
+        t0 = time.perf_counter()
+        payload = run_dynamics_stage(config, out_dir, progress=progress, command=command)
+        return {
+            "results": out_dir / DYNAMICS_FILE,
+            "report": out_dir / DYNAMICS_REPORT,
+            "rows": len(payload["rows"]),
+            "durations": {"inverse-dynamics": time.perf_counter() - t0},
+        }
     shutil.rmtree(out_dir / "qpbenchmark", ignore_errors=True)  # no stale problems or results
     durations: dict[str, float] = {}
     backends = list(config.backends) if config.backends else benchmark_backends()
     t0 = time.perf_counter()
     walks = [
         (f, w)
-        for f in dict.fromkeys(config.families + (config.sweep_family,))
+        for f in dict.fromkeys(config.mpc_families + (config.sweep_family,))
         for w in dict.fromkeys(config.walks + (config.sweep_walk,))
-        if (f in config.families and w in config.walks)
+        if (f in config.mpc_families and w in config.walks)
         or (f == config.sweep_family and w == config.sweep_walk)
     ]
     prepared = map_tasks(
@@ -255,6 +275,10 @@ def run_solver_benchmark(
         t0 = time.perf_counter()
         extras["qpbenchmark"] = run_qpbenchmark_isolated(out_dir, config)
         durations["qpbenchmark"] = time.perf_counter() - t0
+    if config.dynamics:
+        t0 = time.perf_counter()
+        run_dynamics_stage(config, out_dir, progress=progress, command=command)
+        durations["inverse-dynamics"] = time.perf_counter() - t0
     extras["durations"] = durations
     extras["machine"] = machine_summary()
     extras["command"] = command
@@ -273,11 +297,16 @@ def run_solver_benchmark(
 
 def rewrite_report(out_dir: Path) -> Path:
     """Write ``report.md`` and the figures again from ``results.csv.gz`` and
-    ``extras.json`` of a finished run (no solve is made)."""
+    ``extras.json`` of a finished run (no solve is made), and ``inverse_dynamics.md`` from
+    its payload when the run has one (alone when it is all the run has)."""
     from mpcwalk.bench.solvers.report.document import write_report
     from mpcwalk.bench.solvers.results import read_results
 
     out_dir = Path(out_dir)
+    if (out_dir / DYNAMICS_FILE).exists():
+        dynamics = write_dynamics_report(out_dir, read_payload(out_dir))
+        if not (out_dir / "extras.json").exists():  # the inverse-dynamics stage alone
+            return dynamics
     extras = json.loads((out_dir / "extras.json").read_text())
     fields: dict[str, Any] = {
         k: tuple(v) if isinstance(v, list) else v for k, v in extras.get("config", {}).items()

@@ -8,13 +8,19 @@ from mpcwalk.bench.solvers.solves.cases import STARTS
 from mpcwalk.bench.solvers.tolerances import LEVEL_NAMES
 from mpcwalk.exceptions import ConfigurationError
 
+#: The family of the inverse-dynamics QP of torque control: its own stage
+#: (:mod:`mpcwalk.bench.solvers.dynamics`), the other families are the MPCs'.
+DYNAMICS_FAMILY = "inverse-dynamics"
+
 
 @dataclass(frozen=True)
 class SolverBenchConfig:
     """Problem set, back-ends and run options.
 
     Attributes:
-        families: Problem families of the main set (each at its own horizon).
+        families: Problem families of the main set (each at its own horizon), and
+            :data:`DYNAMICS_FAMILY` for the inverse-dynamics stage (alone: only that stage
+            runs).
         walks: Walks sampled.
         nb_steps: Steps of each walk.
         nb_nominal: Snapshots per walk at the walk's own states.
@@ -49,9 +55,22 @@ class SolverBenchConfig:
             (None: all but the JAX-based ones; empty: no run).
         export_max_horizon: Largest horizon exported to the qpbenchmark set.
         seed: Seed of the push directions.
+        dynamics_robots: Robots of the torque-mode walks the inverse-dynamics problems are
+            taken along.
+        dynamics_vx: Forward velocity of those walks, in [m/s].
+        dynamics_nb_steps: Steps of those walks.
+        dynamics_nb_per_phase: Problems per walk in each phase (double support, single
+            support, touch-down ramp).
+        dynamics_nb_pushed: Problems per walk in single support with a velocity push on
+            the base.
+        dynamics_push_speed: Velocity of that push, in [m/s].
+        dynamics_loop_robot: Robot of the in-loop torque walks (None: none).
+        dynamics_loop_nb_steps: Steps of each in-loop torque walk.
+        dynamics_loop_min_success: A back-end walks in the loop when its cold solves at
+            the default level succeeded on at least this share of the loop robot's problems.
     """
 
-    families: tuple[str, ...] = ("mpc", "mpc-dcm", "mpc-tick", "static-qp")
+    families: tuple[str, ...] = ("mpc", "mpc-dcm", "mpc-tick", "static-qp", DYNAMICS_FAMILY)
     walks: tuple[str, ...] = ("straight", "turning", "sideways")
     nb_steps: int = 20
     nb_nominal: int = 4
@@ -83,9 +102,18 @@ class SolverBenchConfig:
     qpbenchmark_solvers: tuple[str, ...] | None = None
     export_max_horizon: int = 64
     seed: int = 0
+    dynamics_robots: tuple[str, ...] = ("bioloid-like", "g1")
+    dynamics_vx: float = 0.1  # [m/s]
+    dynamics_nb_steps: int = 20
+    dynamics_nb_per_phase: int = 4
+    dynamics_nb_pushed: int = 3
+    dynamics_push_speed: float = 0.1  # [m/s]
+    dynamics_loop_robot: str | None = "bioloid-like"
+    dynamics_loop_nb_steps: int = 20
+    dynamics_loop_min_success: float = 0.95
 
     def __post_init__(self) -> None:
-        known = families()
+        known = [*families(), DYNAMICS_FAMILY]
         for name in self.families + (self.sweep_family,):
             if name not in known:
                 raise ConfigurationError(
@@ -126,7 +154,22 @@ class SolverBenchConfig:
             loop_nb_steps=8,
             loop_backends_max_time=2e-3,
             loop_pushes=2,
+            dynamics_nb_steps=8,
+            dynamics_nb_per_phase=2,
+            dynamics_nb_pushed=1,
+            dynamics_loop_nb_steps=8,
         )
+
+    @property
+    def mpc_families(self) -> tuple[str, ...]:
+        """The families of :attr:`families` that are MPC QPs (all but
+        :data:`DYNAMICS_FAMILY`)."""
+        return tuple(f for f in self.families if f != DYNAMICS_FAMILY)
+
+    @property
+    def dynamics(self) -> bool:
+        """Whether the inverse-dynamics stage runs."""
+        return DYNAMICS_FAMILY in self.families
 
     def replace(self, **changes) -> "SolverBenchConfig":
         """Copy with some fields changed."""

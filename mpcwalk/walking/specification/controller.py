@@ -97,7 +97,9 @@ class ControllerSpec:
         swing_profile: ``"cosine"`` (paper M) or ``"ctraj"`` (paper A).
         controller_options: Further keyword arguments of the
             :class:`~mpcwalk.control.controller.WalkingController` (``balance``,
-            ``heading_hold``, ``dcm_gain``, ``observer_gain``, ``zmp_margin``...).
+            ``heading_hold``, ``dcm_gain``, ``observer_gain``, ``zmp_margin``...); a
+            torque-controlled walk also takes ``dynamics_solver``, the back-end of its
+            inverse dynamics (:class:`~mpcwalk.control.torque_controller.TorqueController`).
 
     Raises:
         ConfigurationError: A value of the wrong type or out of range, an unknown swing

@@ -97,6 +97,8 @@ def command_line(spec: Any, out: str = "walk") -> str:
         words += ["--controller", controller.name]
     if "solver" in controller.generator_options:
         words += ["--solver", str(controller.generator_options["solver"])]
+    if "dynamics_solver" in controller.controller_options:
+        words += ["--dynamics-solver", str(controller.controller_options["dynamics_solver"])]
     if plan.command is not None:
         vx, vy, vyaw = plan.command
         words += ["--vx", _text(vx), "--vy", _text(vy), "--vyaw", _text(vyaw)]

@@ -65,6 +65,11 @@ def backend_settings(backend: str, level: ToleranceLevel) -> dict:
         if eps is not None:
             settings.update(eps_abs=eps, eps_rel=0.0)
         return settings
+    if backend == "daqp-direct":  # DAQP's workspace: the settings of qpsolvers' daqp
+        settings = {"time_limit": limit}
+        if eps is not None:
+            settings.update(primal_tol=eps, dual_tol=eps)
+        return settings
     if backend.startswith("casadi-"):
         return _casadi_settings(backend[len("casadi-") :], eps, limit)
     settings = dict(_QPSOLVERS_QUIET.get(backend, {}))

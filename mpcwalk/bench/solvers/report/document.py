@@ -13,6 +13,7 @@ from mpcwalk.bench.solvers.backends.registry import (
 )
 from mpcwalk.bench.solvers.backends.settings import settings_table
 from mpcwalk.bench.solvers.config import SolverBenchConfig
+from mpcwalk.bench.solvers.dynamics.report import dynamics_section
 from mpcwalk.bench.solvers.problems.families import PENDING_FAMILIES, get_family
 from mpcwalk.bench.solvers.report.plots import (
     plot_success_rates,
@@ -54,7 +55,7 @@ def _levels(rows: list[dict]) -> list[str]:
 def problems_section(rows: list[dict], config: SolverBenchConfig, extras: dict) -> str:
     main = in_set(rows, "main")
     body = []
-    for name in config.families:
+    for name in config.mpc_families:
         fam = get_family(name)
         p = fam.parameters
         sel = select(main, family=name)
@@ -155,7 +156,7 @@ def family_section(rows: list[dict], config: SolverBenchConfig, level: str) -> s
                 if not mine:
                     continue
                 cells = []
-                for fam in config.families:
+                for fam in config.mpc_families:
                     med, p99, count = timing_stats(select(mine, family=fam))
                     total = len(select(mine, family=fam))
                     cells.append(f"{format_time(med)} / {format_time(p99)} ({count}/{total})")
@@ -163,7 +164,7 @@ def family_section(rows: list[dict], config: SolverBenchConfig, level: str) -> s
         body.sort(key=lambda r: (r[1], _sort_time(r[2])))
         parts.append(
             f"**{formulation}** (median / p99 of successful solves, successes/solves)"
-            "\n\n" + markdown_table(["back-end", "start"] + list(config.families), body)
+            "\n\n" + markdown_table(["back-end", "start"] + list(config.mpc_families), body)
         )
     return "\n\n".join(parts)
 
@@ -231,7 +232,7 @@ def write_report(out_dir: Path, rows: list[dict], config: SolverBenchConfig, ext
         },
     )
     path = out_dir / "report.md"
-    path.write_text(text)
+    path.write_text(text + dynamics_section(out_dir))
     return path
 
 
