@@ -40,6 +40,20 @@ def heel_room(terrain, x_heel: float, y: float, height: float) -> float:
     return float(x_heel - xs[np.argmax(higher)])
 
 
+def g1_walk(controller: str, terrain: Terrain, nb_steps: int):
+    """The G1 walking ``terrain`` at 0.1 m/s, T = 1.5 s, in closed loop on its estimator."""
+    spec = WalkSpec.build(
+        "g1",
+        controller=controller,
+        command=(0.1, 0.0, 0.0),
+        nb_steps=nb_steps,
+        step_duration=1.5,
+        terrain=terrain,
+        progress=False,
+    )
+    return run_walk(spec)
+
+
 def g1_plan():
     planner = VelocityPlanner(G1_LIMITS, StepTiming(1.5, 0.2, 1.0, 1.0))
     return planner.plan((0.1, 0.0, 0.0), 30, terrain=G1_STAIRS, reach=G1_REACH)
@@ -139,17 +153,7 @@ def test_the_g1_steps_down_a_quarter_of_its_leg():
     of its leg), treads 1.5 soles. Without the heel-off its trailing ankle stops at 50 deg
     of dorsiflexion in the double support between the two heights, the IK turns the pelvis
     and the robot falls at 6.2 s, in its first step down."""
-    terrain = Terrain([Stairs(0.4, rise=-0.165, run=0.30, count=2)])
-    spec = WalkSpec.build(
-        "g1",
-        controller="mpc",
-        command=(0.1, 0.0, 0.0),
-        nb_steps=4,
-        step_duration=1.5,
-        terrain=terrain,
-        progress=False,
-    )
-    result = run_walk(spec)
+    result = g1_walk("mpc", Terrain([Stairs(0.4, rise=-0.165, run=0.30, count=2)]), 4)
     m = result.metrics
     assert not m.fell and m.steps_completed == m.steps_planned == 5
     heights = [round(float(s.position[2]), 6) for s in result.schedule.plan.steps]
@@ -165,16 +169,7 @@ def test_the_g1_with_mpc_steps_goes_down_stairs_without_turning():
     foot round and the walk stopped after 7 of 15 steps, turned by 20.3 deg. On a terrain
     the term is now off unless asked for: 15/15, turned by 0.3 deg."""
     terrain = Terrain([Stairs(0.4, 0.10, 0.30, 2), Stairs(1.3, -0.10, 0.30, 2)])
-    spec = WalkSpec.build(
-        "g1",
-        controller="mpc-steps",
-        command=(0.1, 0.0, 0.0),
-        nb_steps=14,
-        step_duration=1.5,
-        terrain=terrain,
-        progress=False,
-    )
-    result = run_walk(spec)
+    result = g1_walk("mpc-steps", terrain, 14)
     m = result.metrics
     assert m.outcome == "walked" and m.steps_completed == m.steps_planned == 15
     heights = {round(float(s.position[2]), 6) for s in result.schedule.plan.steps}
