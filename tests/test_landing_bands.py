@@ -185,3 +185,14 @@ def test_the_walk_builder_gives_every_footstep_adaptive_generator_its_bands(cont
     assert generator.landing_bands is not None
     assert np.array_equal(generator.landing_bands.lower, expected.lower)
     assert np.array_equal(generator.landing_bands.upper, expected.upper)
+
+
+def test_on_a_terrain_the_capture_point_term_is_off_unless_asked_for():
+    """``dcm_step_gain`` defaults to 1 on the floor and to 0 with landing bands (a terrain:
+    its growth over long steps made the G1's landings jump between their bounds); a gain
+    given is kept."""
+    lipm, bands = LIPM(com_height=0.23), tread_bands(stairs_plan(), STAIRS, REACH)
+    assert FootstepMpcGenerator(lipm=lipm).dcm_step_gain == 1.0
+    assert FootstepMpcGenerator(lipm=lipm, landing_bands=bands).dcm_step_gain == 0.0
+    given = FootstepMpcGenerator(lipm=lipm, landing_bands=bands, dcm_step_gain=0.5)
+    assert given.dcm_step_gain == 0.5
