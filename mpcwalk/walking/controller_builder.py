@@ -32,7 +32,7 @@ from mpcwalk.footsteps.landing_bands import tread_bands
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.gait_defaults import GaitDefaults
 from mpcwalk.generators import generator_class
-from mpcwalk.generators.mpc_steps import FootstepMpcGenerator
+from mpcwalk.generators.mpc_steps import TORQUE_DCM_STEP_GAIN, FootstepMpcGenerator
 from mpcwalk.generators.registry import check_options
 from mpcwalk.ik.dynamics_program import check_dynamics_solver
 from mpcwalk.ik.targets import IKWeights
@@ -132,6 +132,9 @@ def build_controller(
             generator_options.setdefault(
                 "landing_bands", tread_bands(schedule.plan, terrain, reach)
             )
+    if actuation == "torque" and issubclass(generator_class(spec.generator), FootstepMpcGenerator):
+        # torque control: the capture-point term off unless asked for (TORQUE_DCM_STEP_GAIN)
+        generator_options.setdefault("dcm_step_gain", TORQUE_DCM_STEP_GAIN)
     if "flywheel_limits" in inspect.signature(generator_class(spec.generator)).parameters:
         # the hip strategy: the upper body's limits from the robot's model
         generator_options.setdefault("flywheel_limits", upper_body_flywheel(robot))
