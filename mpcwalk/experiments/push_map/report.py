@@ -311,7 +311,9 @@ def write_push_report(
     bounds = lipm_bounds(robot, config)
     double = double_support_text(rows, bounds)
     text = [
-        f"# Push map: {config.robot}\n",
+        f"# Push map: {config.robot}"
+        + ("" if config.actuation == "position" else f" ({config.actuation} control)")
+        + "\n",
         runs,
         f"Grid: {config.nb_directions} directions, {config.nb_phases} phases per step (at the "
         "middle of each share, as the LIPM's map), speeds "
