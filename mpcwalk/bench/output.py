@@ -1,5 +1,6 @@
 """What the ``mpcwalk bench`` commands leave behind: ``NAME.md`` and ``NAME.json``."""
 
+import importlib
 import json
 import os
 import platform
@@ -8,11 +9,15 @@ from typing import Any
 
 
 def machine_description() -> str:
-    """One line describing the machine the benchmark ran on."""
-    return (
-        f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-        f"Python {platform.python_version()}"
-    )
+    """One line describing the machine the benchmark ran on: its processor (its brand when
+    the optional ``cpuinfo`` package is there), cores and Python."""
+    cpu = platform.processor() or platform.machine()
+    try:
+        cpuinfo = importlib.import_module("cpuinfo")  # optional, untyped
+        cpu = cpuinfo.get_cpu_info().get("brand_raw", cpu) or cpu
+    except Exception:
+        pass
+    return f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}"
 
 
 def write_bench_output(out: str | Path, name: str, text: str, payload: Any) -> tuple[Path, Path]:

@@ -25,10 +25,7 @@ are timed:
 6. the report and its figures (:mod:`~mpcwalk.bench.solvers.report.document`).
 """
 
-import importlib
 import json
-import os
-import platform
 import shutil
 import time
 from dataclasses import asdict
@@ -37,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from mpcwalk.bench.output import machine_description
 from mpcwalk.bench.solvers.backends.registry import (
     KNOWN_SLOW_BACKENDS,
     OPTI_BACKEND,
@@ -174,17 +172,6 @@ def make_cases(
     ]
 
 
-def machine_summary() -> str:
-    """CPU, cores, Python."""
-    cpu = platform.processor() or platform.machine()
-    try:
-        cpuinfo = importlib.import_module("cpuinfo")  # optional, untyped
-        cpu = cpuinfo.get_cpu_info().get("brand_raw", cpu)
-    except Exception:
-        pass
-    return f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}"
-
-
 def run_solver_benchmark(
     config: SolverBenchConfig,
     out_dir: Path,
@@ -280,7 +267,7 @@ def run_solver_benchmark(
         run_dynamics_stage(config, out_dir, progress=progress, command=command)
         durations["inverse-dynamics"] = time.perf_counter() - t0
     extras["durations"] = durations
-    extras["machine"] = machine_summary()
+    extras["machine"] = machine_description()
     extras["command"] = command
     extras["config"] = asdict(config)
     (out_dir / "extras.json").write_text(

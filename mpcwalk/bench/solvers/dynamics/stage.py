@@ -17,6 +17,7 @@ import time
 from dataclasses import asdict
 from pathlib import Path
 
+from mpcwalk.bench.output import machine_description
 from mpcwalk.bench.solvers.config import SolverBenchConfig
 from mpcwalk.bench.solvers.dynamics.capture import (
     DynamicsProblem,
@@ -85,8 +86,6 @@ def run_dynamics_stage(
     Returns:
         The JSON payload (also in ``inverse_dynamics.json.gz``).
     """
-    from mpcwalk.bench.solvers.benchmark import machine_summary
-
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     durations = {}
@@ -119,7 +118,7 @@ def run_dynamics_stage(
         durations["loops"] = time.perf_counter() - t0
     payload = {
         "command": command,
-        "machine": machine_summary(),
+        "machine": machine_description(),
         "date": time.strftime("%Y-%m-%d"),
         "durations": durations,
         "load_average": {"before": load_before, "after": os.getloadavg()[0]},
