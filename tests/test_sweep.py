@@ -154,3 +154,29 @@ def test_a_table_of_older_columns_is_rewritten_under_the_new_ones(tmp_path):
     assert rows[0]["node"] is None and rows[0]["cpu_time_s"] is None
     assert all(isinstance(row["node"], str) and len(row["node"]) == 56 for row in rows[1:])
     assert all(0.0 <= row["cpu_time_s"] < 5.0 for row in rows[1:])
+
+
+def test_a_sweep_grown_along_its_axes_keeps_the_rows_it_shares(tmp_path):
+    """One more value in a list setting (a controller added to a map) with every earlier
+    case kept: the folder is taken over with its rows and only the new cases run. A list that
+    loses a value, or any other setting changed, is still another configuration."""
+    grown = Sweep(
+        "roots",
+        CASES + (Case(25.0),),
+        square_root,
+        ("root", "seeded"),
+        settings={"values": [1, 2, 3]},
+    )
+    run_sweep(sweep(values=[1, 2]), tmp_path, workers=1, max_cases=3, progress=False)
+    first = read_rows(tmp_path / "results.csv")
+    again = run_sweep(grown, tmp_path, workers=1, progress=False)
+    assert again.complete and again.nb_resumed == 3 and again.nb_run == len(CASES) + 1 - 3
+    assert without_timing(again.rows[:3]) == without_timing(first)
+    for settings in ({"values": [1, 2]}, {"values": [1, 2, 3], "level": 1}):
+        with pytest.raises(ConfigurationError, match="another configuration"):
+            run_sweep(sweep(**settings), tmp_path, workers=1, progress=False)
+    fewer = Sweep(
+        "roots", CASES[:4], square_root, ("root", "seeded"), settings={"values": [1, 2, 3]}
+    )
+    with pytest.raises(ConfigurationError, match="another configuration"):
+        run_sweep(fewer, tmp_path, workers=1, progress=False)

@@ -4,8 +4,10 @@ A sweep's output folder holds ``results.csv`` (the rows: the case's configuratio
 its run measured, and its ``error``) and ``sweep.json`` (what the sweep is: its name, its
 settings and the identifiers of its cases, with their fingerprint). Rows are appended and
 flushed one by one, so a sweep killed halfway keeps every case that finished; run again on
-the same folder with the same configuration, it runs only the missing cases. A folder
-holding another configuration is refused unless it is overwritten. When every case has its
+the same folder with the same configuration, it runs only the missing cases. A sweep grown
+along its axes (a list setting given more values, such as one more controller, and every
+earlier case kept) takes over the folder of the smaller one with its rows and runs only the
+new cases. A folder holding another configuration is refused unless it is overwritten. When every case has its
 row, the table is rewritten in the order of the cases (an uninterrupted run's order).
 
 Cells: numbers as Python writes them (``repr``, so that they read back exactly), ``True``
@@ -130,6 +132,9 @@ class ResultsTable:
         }
         self.dir.mkdir(parents=True, exist_ok=True)
         old = self._old_fingerprint()
+        if old not in (None, self.fingerprint) and not overwrite and self._grows(manifest):
+            self.manifest_path.write_text(json.dumps(manifest, indent=1, default=str) + "\n")
+            old = self.fingerprint
         if old is not None and old != self.fingerprint and not overwrite:
             raise ConfigurationError(
                 f"{self.dir} holds a sweep of another configuration (fingerprint {old}, this "
@@ -149,6 +154,24 @@ class ResultsTable:
             return str(json.loads(self.manifest_path.read_text())["fingerprint"])
         except (ValueError, KeyError):
             return "(unreadable)"
+
+    def _grows(self, manifest: dict[str, Any]) -> bool:
+        """Whether this sweep is the folder's grown along its axes: the same name and
+        settings but for lists holding every earlier value and more, and every earlier case."""
+        try:
+            old = json.loads(self.manifest_path.read_text())
+            old_settings, old_cases = dict(old["settings"]), list(old["cases"])
+        except (ValueError, KeyError, TypeError):
+            return False
+        settings = json.loads(json.dumps(manifest["settings"], default=str))
+        if old.get("name") != manifest["name"] or set(old_settings) != set(settings):
+            return False
+        for key, value in settings.items():
+            before = old_settings[key]
+            grown = isinstance(value, list) and isinstance(before, list)
+            if before != value and not (grown and all(v in value for v in before)):
+                return False
+        return set(old_cases) <= set(manifest["cases"])
 
     def _repair(self) -> None:
         """Cut a partial last line (a sweep killed while writing it); rewrite a table
