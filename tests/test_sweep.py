@@ -156,6 +156,25 @@ def test_a_table_of_older_columns_is_rewritten_under_the_new_ones(tmp_path):
     assert all(0.0 <= row["cpu_time_s"] < 5.0 for row in rows[1:])
 
 
+def test_a_sweep_grown_in_a_table_of_its_settings_keeps_its_rows(tmp_path):
+    """A controller added to one robot's list in a table of robots: grown; a robot's other
+    setting changed: another configuration."""
+
+    def robots(controllers, steps=8):
+        return {
+            "robots": {
+                "a": {"controllers": controllers, "steps": steps},
+                "b": {"controllers": ["x"], "steps": 8},
+            }
+        }
+
+    run_sweep(sweep(**robots(["x"])), tmp_path, workers=1, progress=False)
+    grown = run_sweep(sweep(**robots(["x", "y"])), tmp_path, workers=1, progress=False)
+    assert grown.complete and grown.nb_run == 0 and grown.nb_resumed == len(CASES)
+    with pytest.raises(ConfigurationError, match="another configuration"):
+        run_sweep(sweep(**robots(["x", "y"], steps=6)), tmp_path, workers=1, progress=False)
+
+
 def test_a_sweep_grown_along_its_axes_keeps_the_rows_it_shares(tmp_path):
     """One more value in a list setting (a controller added to a map) with every earlier
     case kept: the folder is taken over with its rows and only the new cases run. A list that

@@ -40,6 +40,16 @@ def fingerprint(name: str, settings: dict[str, Any], case_ids: Sequence[str]) ->
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
+def _grown(before: Any, after: Any) -> bool:
+    """``after`` is ``before``, or lists holding every value of it and more, or tables with
+    the same keys, each grown."""
+    if isinstance(before, dict) and isinstance(after, dict):
+        return set(before) == set(after) and all(_grown(before[k], after[k]) for k in before)
+    if isinstance(before, list) and isinstance(after, list) and before != after:
+        return all(value in after for value in before)
+    return bool(before == after)
+
+
 def encode(value: Any) -> str:
     """One cell of the table."""
     if value is None:
@@ -157,21 +167,19 @@ class ResultsTable:
 
     def _grows(self, manifest: dict[str, Any]) -> bool:
         """Whether this sweep is the folder's grown along its axes: the same name and
-        settings but for lists holding every earlier value and more, and every earlier case."""
+        settings but for lists holding every earlier value and more (in tables too), and
+        every earlier case."""
         try:
             old = json.loads(self.manifest_path.read_text())
-            old_settings, old_cases = dict(old["settings"]), list(old["cases"])
+            old_settings, old_cases = old["settings"], list(old["cases"])
         except (ValueError, KeyError, TypeError):
             return False
         settings = json.loads(json.dumps(manifest["settings"], default=str))
-        if old.get("name") != manifest["name"] or set(old_settings) != set(settings):
-            return False
-        for key, value in settings.items():
-            before = old_settings[key]
-            grown = isinstance(value, list) and isinstance(before, list)
-            if before != value and not (grown and all(v in value for v in before)):
-                return False
-        return set(old_cases) <= set(manifest["cases"])
+        return (
+            old.get("name") == manifest["name"]
+            and _grown(old_settings, settings)
+            and set(old_cases) <= set(manifest["cases"])
+        )
 
     def _repair(self) -> None:
         """Cut a partial last line (a sweep killed while writing it); rewrite a table
