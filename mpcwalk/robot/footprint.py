@@ -12,7 +12,10 @@ their surface, meshes by their vertices (STL, OBJ and MuJoCo's MSH). A URDF foot
 shapes MuJoCo does not read (Collada meshes, as Romeo's and iCub's) is measured on the same
 shapes read by Pinocchio (:func:`urdf_foot_points`: any mesh format it reads, primitives by
 their bounding boxes). ``package://NAME/...`` mesh files are looked for in
-``package_dirs`` and in the folders above the description.
+``package_dirs`` and in the folders above the description. A Collada file drawn with another
+axis up (its ``<up_axis>``, as iCub's feet, ``Y_UP``) is turned to Z up as the format says:
+the mesh reader gives its vertices as drawn, and iCub's 15.6 x 6.1 cm soles then read 6.1 x
+15.6 cm, turned by a quarter turn.
 """
 
 from __future__ import annotations
@@ -204,10 +207,35 @@ def urdf_foot_points(
         for item in geometry.geometryObjects:
             local = _shape_points(item.geometry) if item.parentJoint == frame.parentJoint else None
             if local is not None and len(local):
+                local = local @ collada_up_rotation(getattr(item, "meshPath", "")).T
                 placement = to_foot * item.placement
                 points.append(local @ placement.rotation.T + placement.translation)
         result[foot] = np.vstack(points) if points else empty[foot]
     return result
+
+
+#: Collada's up axes, each turned to Z up (a rotation: the up axis becomes z).
+_UP_ROTATIONS = {
+    "X_UP": np.array([[0.0, 0.0, -1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]]),
+    "Y_UP": np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]]),
+    "Z_UP": np.eye(3),
+}
+
+
+def collada_up_rotation(mesh_path: str | Path) -> np.ndarray:
+    """The rotation (3, 3) taking a mesh file's vertices, as drawn, to Z up: its Collada
+    ``<up_axis>`` (X_UP, Y_UP or Z_UP, the format's default Y_UP when unsaid); the identity
+    for any other file or one that cannot be read."""
+    path = Path(str(mesh_path))
+    if path.suffix.lower() != ".dae" or not path.is_file():
+        return np.eye(3)
+    try:
+        with open(path, encoding="utf-8", errors="replace") as stream:
+            head = stream.read(65536)
+    except OSError:
+        return np.eye(3)
+    found = re.search(r"<up_axis>\s*([XYZ]_UP)\s*</up_axis>", head)
+    return _UP_ROTATIONS[found.group(1) if found else "Y_UP"]
 
 
 def _shape_points(shape) -> np.ndarray | None:
@@ -352,6 +380,7 @@ def _readable(file: str, meshdir: str, description: Path) -> bool:
 __all__ = [
     "DEFAULT_LAYER",
     "SoleFootprint",
+    "collada_up_rotation",
     "foot_footprints",
     "sole_from_geometry",
     "urdf_foot_points",
