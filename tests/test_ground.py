@@ -10,10 +10,14 @@ import pytest
 from conftest import get_robot
 
 from mpcwalk.cli import main as cli_main
+from mpcwalk.control.stabilizers.balance import make_balance
+from mpcwalk.control.stabilizers.balance_options import BalanceOptions
+from mpcwalk.estimation.estimator import Estimator
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.ground import FIELD_NAME, Ground, clear_radius
 from mpcwalk.sim import Simulation
-from mpcwalk.walking.specification import read_spec
+from mpcwalk.walking.runner import run_walk
+from mpcwalk.walking.specification import WalkSpec, read_spec
 
 
 def test_bad_grounds_are_named():
@@ -86,3 +90,55 @@ def test_mpc_walks_up_a_slope_and_over_bumps_from_the_command_line(tmp_path):
     assert world["ground_tilt_deg"] == 3.0 and world["ground_roughness_m"] == 0.004
     ground = read_spec(out / "spec.toml").world  # the ground, to walk on it again
     assert (ground.ground_tilt, ground.ground_roughness) == (3.0, 0.004)
+
+
+@pytest.mark.parametrize("tilt", [0.0, 4.0])
+def test_the_estimator_reads_gravity_s_tilt_under_a_robot_standing_on_it(tilt):
+    """The soles set the estimator's world (the ground's); gravity's tilt in it is read
+    from the accelerometer: exactly zero on the level floor (within its deadband), the
+    ground's slope towards its uphill azimuth on a tilted one, as the ground truth gives it."""
+    robot = get_robot("bioloid-like")
+    simulation = Simulation(robot, ground=Ground(tilt=tilt, tilt_direction=60.0))
+    state = simulation.reset(robot.q0)
+    estimator = Estimator(robot, control_period=simulation.control_period)
+    estimate = estimator.reset(state.sensors, robot.q0)
+    for _ in range(200):  # 2 s: the average of 0.2 to 0.5 s, then the smoothing
+        state = simulation.step(robot.q0[7:])
+        estimate = estimator.update(state.sensors)
+    uphill = math.tan(math.radians(tilt)) * np.array([0.5, math.sqrt(3.0) / 2.0])
+    assert state.oracle.ground_tilt == pytest.approx(uphill, abs=1e-12)  # the ground truth
+    if tilt == 0.0:
+        assert np.array_equal(estimate.ground_tilt, np.zeros(2))
+    else:
+        assert np.linalg.norm(estimate.ground_tilt - uphill) < 0.15 * np.linalg.norm(uphill)
+
+
+@pytest.mark.slow
+def test_g1_walks_on_a_ground_tilted_4_deg_leaning_into_gravity():
+    """The robustness matrix's world where g1 stopped after 2 of its 9 steps: its ZMP lay
+    4.8 cm downhill of its CoM, past its 3.5 cm half sole. The balance stabilizer keeps the
+    CoM z_c tan(theta) uphill of the plan (BalanceOptions.ground_tilt), from the tilt the
+    estimator reads."""
+    spec = WalkSpec.build(
+        "g1",
+        controller="mpc",
+        command=(0.1, 0.0, 0.0),
+        nb_steps=8,
+        seed=126,
+        ground_tilt=3.9745,
+        ground_tilt_direction=51.6,
+    )
+    metrics = run_walk(spec).metrics
+    assert not metrics.fell and not metrics.stop_reason
+    assert metrics.steps_completed == metrics.steps_planned == 9
+    assert metrics.foot_position_error_cm_mean < 5.0  # measured 2.35 cm
+
+
+def test_balance_options_come_from_a_walk_specification_table():
+    stabilizer = make_balance({"ground_tilt": False, "integral_gain": 1.0}, "mpc")
+    assert stabilizer is not None and stabilizer.options.ground_tilt is False
+    assert stabilizer.options.integral_gain == 1.0
+    with pytest.raises(ConfigurationError, match="no option 'tilt'.*ground_tilt"):
+        make_balance({"tilt": True}, "mpc")
+    with pytest.raises(ConfigurationError, match="ground_tilt must be True or False"):
+        BalanceOptions(ground_tilt=1)

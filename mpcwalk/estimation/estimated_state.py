@@ -9,12 +9,15 @@ behind an explicit switch (``state="oracle"``), never by default.
 All arrays are read-only.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from mpcwalk.models.com_state import ComState
 from mpcwalk.robot.sensors import FootContact, ImuReading, SensorReadings
+
+_LEVEL = np.zeros(2)
+_LEVEL.flags.writeable = False
 
 #: Where an estimated state comes from.
 SOURCES = ("estimator", "oracle")
@@ -53,6 +56,11 @@ class EstimatedState:
         joint_velocities: Joint velocities, same order, in [rad/s].
         sole_positions: Left and right sole frame origins, world frame, shape (2, 3), in [m].
         sole_rotations: Left and right sole frame orientations, shape (2, 3, 3).
+        ground_tilt: Gravity's tilt in the world frame, the slope of the ground the feet
+            stand on (the estimator's world is the soles' frame): the horizontal part of
+            gravity's upward specific force over its vertical part, ``tan(tilt)`` towards
+            the uphill azimuth, shape (2,); zeros on a level floor (the estimator's is zero
+            within its deadband, see :class:`~mpcwalk.estimation.estimator.Estimator`).
     """
 
     time: float
@@ -77,6 +85,7 @@ class EstimatedState:
     joint_velocities: np.ndarray
     sole_positions: np.ndarray
     sole_rotations: np.ndarray
+    ground_tilt: np.ndarray = field(default_factory=lambda: _LEVEL)
 
     @property
     def imu(self) -> ImuReading:

@@ -18,7 +18,21 @@ One :meth:`Estimator.update` per control tick composes:
    time derivative of its velocity as the legs give it) is removed first: a walking robot's
    accelerometer reads its sway as much as gravity;
 7. the world quantities: the CoM and its velocity, the DCM, the sole poses, each foot's
-   wrench and CoP rotated from its sole frame, the overall CoP (paper M eq. 31).
+   wrench and CoP rotated from its sole frame, the overall CoP (paper M eq. 31);
+8. gravity's tilt in the world (``ground_tilt``): while the loaded soles set roll and pitch
+   (the world is the soles' frame), a ground that slopes tilts gravity in that frame, and
+   the accelerometer reads it. While the robot stands at the start (0.1 to 0.5 s), the
+   IMU's mean specific force in the world less its mean acceleration (its velocity's change
+   from the legs: a robot on a slope starts to lean), its slope less that of the soles'
+   normal where they lie flat (the attitude leans a little towards the accelerometer's
+   vertical); used once it spans 0.15 s (a robot on a steep slope cannot wait). Then the
+   specific force's slope is low-pass filtered over ``tilt_time_constant`` at every tick
+   with the feet loaded (slopes beyond 20 deg, a push's or an impact's, left out). The tilt
+   is zero within ``tilt_deadband_deg`` (2 deg: on the level floor, with noise, latency,
+   low friction or a rough ground, it read up to 1.55 deg), ramped in over a quarter of it,
+   and passed through three first-order stages of 0.15 s (it moves the IK's CoM target,
+   whose acceleration the servo feed-forward turns into torques). With a terrain map the
+   world is the map's, gravity's own: no tilt.
 
 The estimator holds a :class:`~mpcwalk.robot.robot.Robot` (its Pinocchio model) and is fed
 :class:`~mpcwalk.robot.sensors.SensorReadings` only: it never sees a simulator.
@@ -44,6 +58,24 @@ from mpcwalk.terrain import Terrain, sole_tilt
 MIN_VELOCITY_NOISE = 0.02
 """Smallest default velocity noise of the leg kinematics [m/s] (the contacts' compliance and
 the joints' backlash when the encoders are exact)."""
+
+
+CALIBRATION = (0.1, 0.5)
+"""Times [s] after the start between which gravity's tilt is averaged (the robot stands on
+its flat soles; before, it settles on them)."""
+
+RAMP = 0.25
+"""Width of the ramp that brings gravity's tilt in past its deadband, relative to it."""
+
+CALIBRATION_SPAN = 0.15
+"""Span [s] of the start's average from which the tilt is used (a robot on a steep slope
+starts to lean at once: it cannot wait for the whole average)."""
+
+MAX_TILT = math.tan(math.radians(20.0))
+"""Largest slope of the specific force read as gravity's (beyond: a push or an impact)."""
+
+SMOOTHING_TIME_CONSTANT = 0.15
+"""Time constant [s] of each of the three smoothing stages of gravity's tilt."""
 
 
 class Estimator:
@@ -88,6 +120,12 @@ class Estimator:
             terrain: the floor): the feet are anchored at its height under them, and the
             loaded soles pull roll and pitch towards the tilt of the tops they stand on
             (its normals) instead of the vertical.
+        tilt_time_constant: Time constant [s] of the low-pass on the specific force that
+            follows gravity's tilt in the world after the start's average.
+        tilt_deadband_deg: Gravity tilt [deg] read as a level floor (the tilt is ramped in
+            from it to 1.25 times it; 0: none). Without feet setting the attitude
+            (``foot_tilt_gain`` 0, ``flat_ground`` False) the world is gravity's and the tilt
+            zero.
 
     Raises:
         ConfigurationError: A bad period or gain (each component checks its own).
@@ -112,6 +150,8 @@ class Estimator:
         anchor_load_fraction: float = 0.5,
         flat_ground: bool = True,
         terrain: Terrain | None = None,
+        tilt_time_constant: float = 20.0,
+        tilt_deadband_deg: float = 2.0,
     ) -> None:
         if not (math.isfinite(control_period) and control_period > 0.0):
             raise ConfigurationError(f"control_period must be > 0 s, got {control_period!r}.")
@@ -150,9 +190,25 @@ class Estimator:
             flat_ground=flat_ground,
             ground=None if self.terrain is None else self.terrain.height,
         )
+        self.tilt_time_constant = checked_number(
+            "tilt_time_constant", tilt_time_constant, low=0.0, low_inclusive=False, unit="s"
+        )
+        self._tilt_deadband = math.tan(
+            math.radians(
+                checked_number(
+                    "tilt_deadband_deg", tilt_deadband_deg, low=0.0, high=20.0, unit="deg"
+                )
+            )
+        )
         length, width = robot.sole_size
         self._half_sole = np.array([0.5 * length, 0.5 * width, 0.0])
         self._imu_velocity = np.zeros(3)
+        self._tilt = np.zeros(2)  # gravity's tilt in the world, low-passed
+        self._tilt_stages = [np.zeros(2) for _ in range(3)]  # past the deadband, smoothed
+        self._tilt_time = 0.0  # [s] since the start
+        self._calibration: dict | None = None  # the start's sums
+        self._tilt_ready = False  # the start's average spans CALIBRATION_SPAN
+
         self._time: float | None = None
         self._state: EstimatedState | None = None
 
@@ -203,6 +259,12 @@ class Estimator:
         self.base.reset(q_initial[0:3], anchors, in_contact)
         self._time = float(readings.time)
         self._imu_velocity = np.zeros(3)
+        # the soles set the world: the accelerometer seen from the planned start's attitude
+        self._tilt = np.zeros(2)
+        self._tilt_stages = [np.zeros(2) for _ in range(3)]
+        self._tilt_time = 0.0
+        self._calibration = None
+        self._tilt_ready = False
         self._state = self.kinematics.estimated_state(
             readings,
             pass_,
@@ -212,6 +274,7 @@ class Estimator:
             np.zeros(3),
             in_contact,
             self.omega,
+            self._ground_tilt(),
         )
         return self._state
 
@@ -281,8 +344,105 @@ class Estimator:
             state[1],
             in_contact,
             self.omega,
+            self._ground_tilt(),
         )
+        if dt > 0.0:
+            flat = self._flat_weights(points, forces)
+            load = float(np.minimum(np.maximum(forces / self.weight, 0.0), 1.0).sum())
+            self._update_tilt(imu_rotation @ accelerometer, imu_velocity, flat, load, dt)
+            self._smooth_tilt(dt)
         return self._state
+
+    def _update_tilt(
+        self,
+        specific_force: np.ndarray,
+        velocity: np.ndarray,
+        flat: np.ndarray,
+        load: float,
+        dt: float,
+    ) -> None:
+        """Gravity's tilt in the soles' world. While the robot stands at the start: the mean
+        specific force of the IMU (world frame) less its mean acceleration (its velocity's
+        change over the window, ``velocity`` from the legs: a robot that starts to lean
+        accelerates), its slope less that of the soles' normal where they lie flat (``flat``
+        as :meth:`_flat_weights`: the attitude filter leans a little towards the
+        accelerometer's vertical). Then the slope of the specific force low-passed at every
+        tick with the feet loaded (``load``: their share of the weight; every phase of the
+        gait alike, so that the sway averages out)."""
+        self._tilt_time += dt
+        state = self._state
+        if self.foot_tilt_gain <= 0.0 or self.terrain is not None or state is None:
+            return
+        if self._tilt_time < CALIBRATION[0] or specific_force[2] <= 0.0:
+            return
+        if self._tilt_time < CALIBRATION[1]:  # standing at the start: an average
+            calibration = self._calibration
+            if calibration is None:
+                self._calibration = calibration = {
+                    "start": self._tilt_time,
+                    "velocity": velocity.copy(),
+                    "force": np.zeros(3),
+                    "normal": np.zeros(3),
+                    "n": 0,
+                    "flat": 0.0,
+                }
+            calibration["force"] += specific_force
+            calibration["n"] += 1
+            total = float(flat.sum())
+            if total > 0.3:
+                calibration["normal"] += flat @ state.sole_rotations[:, :, 2]
+                calibration["flat"] += total
+            span = self._tilt_time - calibration["start"]
+            if span > 0.0 and calibration["flat"] > 0.0:
+                force = calibration["force"] / calibration["n"]
+                force -= (velocity - calibration["velocity"]) / span
+                normal = calibration["normal"] / calibration["flat"]
+                tilt = force[:2] / force[2] - normal[:2] / normal[2]
+                if float(tilt @ tilt) <= MAX_TILT**2:
+                    self._tilt = tilt
+                    self._tilt_ready = self._tilt_ready or span >= CALIBRATION_SPAN
+            return
+        if load < 0.3 or self.attitude.accelerometer_weight(specific_force) <= 0.0:
+            return
+        tilt = specific_force[:2] / specific_force[2]
+        if float(tilt @ tilt) > MAX_TILT**2:  # a push, an impact: no gravity reading
+            return
+        self._tilt += min(dt / self.tilt_time_constant, 1.0) * (tilt - self._tilt)
+
+    def _smooth_tilt(self, dt: float) -> None:
+        """The tilt past its deadband through three first-order stages: it moves the IK's
+        CoM target, whose acceleration the servo feed-forward turns into torques (one stage
+        passes a step into the target's velocity, two into its acceleration)."""
+        tilt = self._tilt
+        norm = math.hypot(float(tilt[0]), float(tilt[1]))
+        dead = self._tilt_deadband
+        target = np.zeros(2)
+        if norm > dead and self._tilt_ready:
+            target = tilt * (min((norm - dead) / (RAMP * dead), 1.0) if dead > 0.0 else 1.0)
+        elif max(float(np.abs(stage).max()) for stage in self._tilt_stages) < 1e-5:
+            for stage in self._tilt_stages:  # level: exactly (a decay never reaches zero)
+                stage[:] = 0.0
+            return
+        share = min(dt / SMOOTHING_TIME_CONSTANT, 1.0)
+        for stage in self._tilt_stages:
+            stage += share * (target - stage)
+            target = stage
+
+    def _ground_tilt(self) -> np.ndarray | None:
+        """Gravity's tilt in the world, smoothed (None: level, or a world that is
+        gravity's own)."""
+        tilt = self._tilt_stages[-1]
+        if not (tilt[0] or tilt[1]):
+            return None
+        return tilt.copy()
+
+    def _flat_weights(self, points: np.ndarray, forces: np.ndarray) -> np.ndarray:
+        """Each foot's trust as flat on its ground: its load (share of the weight) times how
+        far its CoP is from the sole's edges (a foot rolling on an edge is not flat)."""
+        edge = np.max(np.abs(points[:, :2]) / self._half_sole[:2], axis=1)
+        return np.minimum(np.maximum(forces / self.weight, 0.0), 1.0) * np.minimum(
+            np.maximum((1.0 - edge) / 0.2, 0.0), 1.0
+        )
 
     def _correct_with_feet(
         self, pass_: KinematicsPass, points: np.ndarray, forces: np.ndarray, dt: float
@@ -290,10 +450,7 @@ class Estimator:
         """Roll and pitch pulled towards the vertical of the loaded feet, flat on the floor:
         each foot weighted by its load and by how far its CoP is from the sole's edges (a
         foot rolling on an edge is not flat)."""
-        edge = np.max(np.abs(points[:, :2]) / self._half_sole[:2], axis=1)
-        weights = np.minimum(np.maximum(forces / self.weight, 0.0), 1.0) * np.minimum(
-            np.maximum((1.0 - edge) / 0.2, 0.0), 1.0
-        )
+        weights = self._flat_weights(points, forces)
         total = float(weights.sum())
         if total < 0.3:
             return self.attitude.rotation

@@ -135,6 +135,7 @@ class BaseKinematics:
         velocity: np.ndarray,
         in_contact: np.ndarray,
         omega: float,
+        ground_tilt: np.ndarray | None = None,
     ) -> EstimatedState:
         """The world state of a base pose and twist and the robot's relative kinematics.
 
@@ -147,6 +148,8 @@ class BaseKinematics:
             velocity: Base linear velocity, world frame, shape (3,), in [m/s].
             in_contact: Contact state of the left and right feet.
             omega: LIPM natural frequency sqrt(g / h) [1/s] of the DCM.
+            ground_tilt: Gravity's tilt in the world (:class:`EstimatedState`), shape (2,);
+                None: a level floor.
         """
         com = position + rotation @ relative.com
         com_velocity = velocity + rotation @ (
@@ -196,6 +199,7 @@ class BaseKinematics:
             joint_velocities=joint_velocities,
             sole_positions=freeze(sole_positions),
             sole_rotations=freeze(sole_rotations),
+            **({} if ground_tilt is None else {"ground_tilt": frozen_array(ground_tilt)}),
         )
 
     @staticmethod

@@ -121,7 +121,16 @@ class GroundTruth:
             joint_velocities=v[6:],
             sole_positions=sole_positions,
             sole_rotations=sole_rotations,
+            ground_tilt=self._ground_tilt(model),
         )
+
+    @staticmethod
+    def _ground_tilt(model: mujoco.MjModel) -> np.ndarray:
+        """Gravity's tilt in the world frame (a tilted ground tilts gravity): ``g_xy / g_z``."""
+        gravity = model.opt.gravity
+        if gravity[0] == 0.0 and gravity[1] == 0.0:
+            return np.zeros(2)
+        return frozen_array(np.array(gravity[:2]) / float(gravity[2]))
 
     def _exact_readings(
         self,

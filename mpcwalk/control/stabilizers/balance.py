@@ -17,7 +17,13 @@ walking controller of HRP-4 (Caron et al. 2019) and of the HRP-4C stabilizer (Ka
    the steady difference between the measured CoP and the planned ZMP, while
    the DCM error is small, is the offset of the robot's CoM from the model's; the IK's CoM
    target is moved by minus the estimate and the estimated CoM by plus it, so that the
-   robot's CoM, not the model's, follows the plan.
+   robot's CoM, not the model's, follows the plan;
+5. **gravity's tilt**: on a ground sloping by ``theta`` (the estimated state's
+   ``ground_tilt``, from the accelerometer), ``c'' = omega^2 (c - p) + g_xy`` makes the ZMP
+   of a CoM at rest lie ``z_c tan(theta)`` downhill of it; the plan's CoM ``c'`` then stands
+   for ``c - z_c tan(theta)``, a CoM offset known at once and added to the learnt one (it
+   takes effect on the simulator's ground truth too, whose CoM is the robot's). Without it a
+   4 deg tilt of the ground put `g1`'s ZMP 4.8 cm downhill, past its 3.5 cm half sole.
 
 The controller (:class:`~mpcwalk.control.controller.WalkingController`, option ``balance``)
 calls :meth:`BalanceStabilizer.measured_com_offset` before the DCM feedback,
@@ -46,6 +52,7 @@ estimate then pushed the CoM further off, on the small humanoid with a trunk CoM
 side). A CoM offset moves into the estimate, out of the DCM feedback and its integral.
 """
 
+import dataclasses
 import math
 
 import numpy as np
@@ -98,6 +105,8 @@ class BalanceStabilizer(Stabilizer):
         self._yaw = 0.0  # heading of the plan [rad] (torso yaw target of the last tick)
         self._weight = 0.0  # robot's weight [N]
         self._min_force = 0.0  # [N]
+        self._com_height = 0.0  # [m]
+        self._tilt_offset = np.zeros(2)  # CoM offset of gravity's tilt, world frame [m]
 
     # ------------------------------------------------------------------ set-up
     def reset(self, inputs: StabilizerInput) -> None:
@@ -133,14 +142,25 @@ class BalanceStabilizer(Stabilizer):
         self._yaw = float(inputs.targets.torso_yaw)
         self._weight = robot.total_mass * float(-robot.model.gravity.linear[2])
         self._min_force = 0.05 * self._weight  # feet pressing less are left out of the CoP
+        self._com_height = float(robot.com_height)
+        self._tilt_offset = np.zeros(2)
 
     # ------------------------------------------------------------------ the parts' outputs
     @property
     def com_offset(self) -> np.ndarray:
-        """Estimated offset of the robot's CoM from the model's, shape (2,), in [m]."""
+        """Offset of the robot's CoM from the plan's model, shape (2,), in [m]: the learnt
+        estimate plus gravity's tilt's."""
+        return self._learnt_offset() + self._tilt_offset
+
+    def _learnt_offset(self) -> np.ndarray:
         if self.offset_estimator is None:
             return np.zeros(2)
         return self._to_world(self.offset_estimator.offset)
+
+    def _observe_tilt(self, state: EstimatedState | ComState | None) -> None:
+        """The CoM offset of gravity's tilt in ``state``: ``-z_c ground_tilt``."""
+        if self.options.ground_tilt and isinstance(state, EstimatedState):
+            self._tilt_offset = -self._com_height * np.asarray(state.ground_tilt, dtype=float)
 
     def _to_world(self, vector: np.ndarray) -> np.ndarray:
         """A heading-frame vector (2,) in the world frame."""
@@ -159,7 +179,8 @@ class BalanceStabilizer(Stabilizer):
         offset estimate for a CoM computed with the model's masses (the estimator's, or a
         bare ComState), nothing for the simulator's ground truth (``source="oracle"``), whose
         CoM is the robot's already (see the module)."""
-        return np.zeros(2) if _is_oracle(state) else self.com_offset
+        self._observe_tilt(state)
+        return self._tilt_offset if _is_oracle(state) else self.com_offset
 
     @property
     def integral_shift(self) -> np.ndarray:
@@ -180,8 +201,12 @@ class BalanceStabilizer(Stabilizer):
         feet); the IK's CoM target moved by minus the estimate."""
         state, estimator, targets = inputs.state, self.offset_estimator, inputs.targets
         self._yaw = float(targets.torso_yaw)
+        self._observe_tilt(state)
         if estimator is None or _is_oracle(state):
-            return targets
+            if not (self._tilt_offset[0] or self._tilt_offset[1]):
+                return targets
+            com_xy = np.asarray(targets.com_xy) - self._tilt_offset
+            return GaitTargets(targets.feet, com_xy, targets.torso_yaw, targets.flywheel)
         if state is not None:
             contacts = (state.left_foot.in_contact, state.right_foot.in_contact)
             cop = anchored_cop(state.sensors.wrenches, contacts, targets.feet, self._min_force)
@@ -225,9 +250,12 @@ class BalanceStabilizer(Stabilizer):
         return out
 
 
-def make_balance(option: BalanceOptions | bool | None, generator: str) -> BalanceStabilizer | None:
-    """The balance stabilizer a controller's ``balance`` option asks for: its options, True
-    (the defaults), False (none), or None (the default of the generator called
+def make_balance(
+    option: BalanceOptions | dict | bool | None, generator: str
+) -> BalanceStabilizer | None:
+    """The balance stabilizer a controller's ``balance`` option asks for: its options (a
+    :class:`BalanceOptions` or a table of its fields, as a walk specification gives them),
+    True (the defaults), False (none), or None (the default of the generator called
     ``generator``: on for :data:`BALANCED_GENERATORS`).
 
     Raises:
@@ -241,6 +269,15 @@ def make_balance(option: BalanceOptions | bool | None, generator: str) -> Balanc
         return BalanceStabilizer()
     if isinstance(option, BalanceOptions):
         return BalanceStabilizer(option)
+    if isinstance(option, dict):  # a table of a walk specification
+        names = {item.name for item in dataclasses.fields(BalanceOptions)}
+        unknown = sorted(set(option) - names)
+        if unknown:
+            raise ConfigurationError(
+                f"balance has no option {', '.join(map(repr, unknown))}; its options are "
+                f"{', '.join(sorted(names))}."
+            )
+        return BalanceStabilizer(BalanceOptions(**option))
     raise ConfigurationError(
         "balance must be BalanceOptions, True, False or None (the generator's default), "
         f"got {option!r}."

@@ -35,6 +35,10 @@ class BalanceOptions:
         com_offset_dcm_threshold: The estimate moves only while the DCM error (low-pass
             filtered over a second) is below this [m]; None: a quarter of the sole's width
             (walking's own DCM error averages below it, a push's does not).
+        ground_tilt: Lean into a tilted gravity (the estimated state's ``ground_tilt``):
+            on a ground sloping by ``theta`` the pendulum's ZMP lies ``z_c tan(theta)``
+            downhill of its CoM, so the robot's CoM is kept that far uphill of the model's
+            plan (a CoM offset known from the accelerometer, beside the one learnt).
     """
 
     integral_gain: float = 2.0
@@ -46,11 +50,16 @@ class BalanceOptions:
     com_offset_time_constant: float = 4.0
     com_offset_limit: float | None = None
     com_offset_dcm_threshold: float | None = None
+    ground_tilt: bool = True
 
     def __post_init__(self) -> None:
+        if not isinstance(self.ground_tilt, bool):
+            raise ConfigurationError(
+                f"BalanceOptions.ground_tilt must be True or False, got {self.ground_tilt!r}."
+            )
         for item in fields(self):
             value = getattr(self, item.name)
-            if value is None and item.name in _SOLE_FRACTIONS:
+            if item.name == "ground_tilt" or (value is None and item.name in _SOLE_FRACTIONS):
                 continue
             number = isinstance(value, (int, float)) and not isinstance(value, bool)
             if not number or math.isnan(value) or value < 0.0:
