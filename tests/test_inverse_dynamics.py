@@ -97,28 +97,6 @@ def test_standing_forces_carry_the_weight_and_torques_match_rnea(name):
     assert np.abs(result.acceleration).max() < 1e-6  # standing still
 
 
-def test_on_a_tilted_ground_the_feet_push_uphill_as_gravity_is_read():
-    """With gravity tilted as the estimated state reads it (the ground's slope in the
-    soles' world), the standing robot's feet carry its weight along the tilted gravity; the
-    robot's own model keeps its vertical gravity."""
-    robot = get_robot("bioloid-like")
-    q, v = robot.q0, np.zeros(robot.model.nv)
-    solver = InverseDynamicsQP(robot, solver="daqp")
-    tilt = np.array([0.04, -0.03])  # uphill towards +x, -y: 2.9 deg
-    solver.set_ground_tilt(tilt)
-    result = solver.solve(q, v, _targets(robot, q))
-    assert result.success
-    rotations = [p.rotation for p in robot.compute_sole_placements(q)]
-    force = sum(R @ w[:3] for R, w in zip(rotations, result.wrenches))
-    assert force[:2] / force[2] == pytest.approx(tilt, abs=1e-6)
-    assert np.linalg.norm(force) == pytest.approx(pin.computeTotalMass(robot.model) * 9.81)
-    assert np.allclose(robot.model.gravity.linear, [0.0, 0.0, -9.81])
-    solver.set_ground_tilt(np.zeros(2))
-    level = solver.solve(q, v, _targets(robot, q))
-    flat = sum(R @ w[:3] for R, w in zip(rotations, level.wrenches))
-    assert np.allclose(flat[:2], 0.0, atol=1e-6)
-
-
 def test_torques_stay_within_their_limits():
     robot = get_robot("bioloid-like")
     q, v = robot.q0, np.zeros(robot.model.nv)

@@ -220,7 +220,6 @@ class TorqueController(WalkingController):
         targets = self.targets(output, previous)
         q, v = np.asarray(state.q), np.asarray(state.v)
         if np.all(np.isfinite(q)) and np.all(np.isfinite(v)):
-            self.inverse_dynamics.set_ground_tilt(state.ground_tilt)  # gravity as it is read
             result = self.inverse_dynamics.solve(q, v, targets)
             torques = result.torques
         else:  # a faulty estimate: the torques of the last tick hold

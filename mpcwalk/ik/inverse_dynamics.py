@@ -25,7 +25,6 @@ a back-end of :mod:`mpcwalk.qp.solvers` (every one that takes equalities), warm-
 the previous tick's solution when the contacts did not change.
 """
 
-import math
 import time
 from collections.abc import Mapping
 from typing import Any, cast
@@ -106,9 +105,8 @@ class InverseDynamicsQP:
         torso_frame: str | None = None,
         state_delay: float | None = None,
     ) -> None:
-        model = pin.Model(robot.model)  # its own copy: its gravity follows the ground's tilt
+        model = robot.model
         self.robot, self.model, self.data = robot, model, model.createData()
-        self._gravity = float(np.linalg.norm(model.gravity.linear))
         self.nv, self.nj = model.nv, model.nv - 6
         self.weights, self.gains = weights, gains
         self.mass = float(pin.computeTotalMass(model))
@@ -336,14 +334,6 @@ class InverseDynamicsQP:
             h_ineq[start + len(limited) :] = bound + h[6:][limited]
         program.update(P, c, A_eq, b_eq, G, h_ineq)
         return program, contacts, M, h, jacobians
-
-    def set_ground_tilt(self, tilt: np.ndarray) -> None:
-        """Gravity tilted as the estimated state's ``ground_tilt`` says (the slope of the
-        ground the soles stand on, in the world): ``g = -|g| (tilt, 1) / sqrt(1 + |tilt|^2)``
-        (zeros: vertical)."""
-        tx, ty = float(tilt[0]), float(tilt[1])
-        scale = self._gravity / math.sqrt(1.0 + tx * tx + ty * ty)
-        self.model.gravity.linear = np.array([-tx * scale, -ty * scale, -scale])
 
     def solve(self, q: np.ndarray, v: np.ndarray, targets: DynamicsTargets) -> DynamicsResult:
         """Joint torques of one tick (never raises on a solver failure: the previous
