@@ -21,18 +21,8 @@ One :meth:`Estimator.update` per control tick composes:
    wrench and CoP rotated from its sole frame, the overall CoP (paper M eq. 31);
 8. gravity's tilt in the world (``ground_tilt``): while the loaded soles set roll and pitch
    (the world is the soles' frame), a ground that slopes tilts gravity in that frame, and
-   the accelerometer reads it. While the robot stands at the start (0.1 to 0.5 s), the
-   IMU's mean specific force in the world less its mean acceleration (its velocity's change
-   from the legs: a robot on a slope starts to lean), its slope less that of the soles'
-   normal where they lie flat (the attitude leans a little towards the accelerometer's
-   vertical); used once it spans 0.15 s (a robot on a steep slope cannot wait). Then the
-   specific force's slope is low-pass filtered over ``tilt_time_constant`` at every tick
-   with the feet loaded (slopes beyond 20 deg, a push's or an impact's, left out). The tilt
-   is zero within ``tilt_deadband_deg`` (2 deg: on the level floor, with noise, latency,
-   low friction or a rough ground, it read up to 1.55 deg), ramped in over a quarter of it,
-   and passed through three first-order stages of 0.15 s (it moves the IK's CoM target,
-   whose acceleration the servo feed-forward turns into torques). With a terrain map the
-   world is the map's, gravity's own: no tilt.
+   the accelerometer reads it (:mod:`mpcwalk.estimation.gravity_tilt`). With a terrain map
+   the world is the map's, gravity's own: no tilt.
 
 The estimator holds a :class:`~mpcwalk.robot.robot.Robot` (its Pinocchio model) and is fed
 :class:`~mpcwalk.robot.sensors.SensorReadings` only: it never sees a simulator.
@@ -48,8 +38,10 @@ from mpcwalk.estimation.attitude_filter import AttitudeFilter, tilt_from_acceler
 from mpcwalk.estimation.base_estimator import BaseEstimator
 from mpcwalk.estimation.contact_detector import ContactDetector
 from mpcwalk.estimation.estimated_state import EstimatedState
+from mpcwalk.estimation.gravity_tilt import GravityTilt
 from mpcwalk.estimation.joint_velocity_filter import JointVelocityFilter
 from mpcwalk.estimation.kinematics import BaseKinematics, KinematicsPass, cross_rows, rpy_of
+from mpcwalk.estimation.reset_checks import checked_reset_inputs
 from mpcwalk.exceptions import ConfigurationError, NotReset
 from mpcwalk.robot.robot import Robot
 from mpcwalk.robot.sensors import SensorReadings
@@ -58,24 +50,6 @@ from mpcwalk.terrain import Terrain, sole_tilt
 MIN_VELOCITY_NOISE = 0.02
 """Smallest default velocity noise of the leg kinematics [m/s] (the contacts' compliance and
 the joints' backlash when the encoders are exact)."""
-
-
-CALIBRATION = (0.1, 0.5)
-"""Times [s] after the start between which gravity's tilt is averaged (the robot stands on
-its flat soles; before, it settles on them)."""
-
-RAMP = 0.25
-"""Width of the ramp that brings gravity's tilt in past its deadband, relative to it."""
-
-CALIBRATION_SPAN = 0.15
-"""Span [s] of the start's average from which the tilt is used (a robot on a steep slope
-starts to lean at once: it cannot wait for the whole average)."""
-
-MAX_TILT = math.tan(math.radians(20.0))
-"""Largest slope of the specific force read as gravity's (beyond: a push or an impact)."""
-
-SMOOTHING_TIME_CONSTANT = 0.15
-"""Time constant [s] of each of the three smoothing stages of gravity's tilt."""
 
 
 class Estimator:
@@ -190,24 +164,12 @@ class Estimator:
             flat_ground=flat_ground,
             ground=None if self.terrain is None else self.terrain.height,
         )
-        self.tilt_time_constant = checked_number(
-            "tilt_time_constant", tilt_time_constant, low=0.0, low_inclusive=False, unit="s"
-        )
-        self._tilt_deadband = math.tan(
-            math.radians(
-                checked_number(
-                    "tilt_deadband_deg", tilt_deadband_deg, low=0.0, high=20.0, unit="deg"
-                )
-            )
+        self.gravity_tilt = GravityTilt(
+            time_constant=tilt_time_constant, deadband_deg=tilt_deadband_deg
         )
         length, width = robot.sole_size
         self._half_sole = np.array([0.5 * length, 0.5 * width, 0.0])
         self._imu_velocity = np.zeros(3)
-        self._tilt = np.zeros(2)  # gravity's tilt in the world, low-passed
-        self._tilt_stages = [np.zeros(2) for _ in range(3)]  # past the deadband, smoothed
-        self._tilt_time = 0.0  # [s] since the start
-        self._calibration: dict | None = None  # the start's sums
-        self._tilt_ready = False  # the start's average spans CALIBRATION_SPAN
 
         self._time: float | None = None
         self._state: EstimatedState | None = None
@@ -241,7 +203,7 @@ class Estimator:
         Raises:
             ConfigurationError: Readings or configuration of the wrong size or not finite.
         """
-        q_initial = self._checked_reset_inputs(readings, q_initial)
+        q_initial = checked_reset_inputs(self.robot.model, readings, q_initial)
         joints = np.asarray(readings.joint_positions, dtype=float)
         self.joint_velocities.reset(joints)
         pass_ = self.kinematics.compute(joints, self.joint_velocities.velocities)
@@ -260,11 +222,7 @@ class Estimator:
         self._time = float(readings.time)
         self._imu_velocity = np.zeros(3)
         # the soles set the world: the accelerometer seen from the planned start's attitude
-        self._tilt = np.zeros(2)
-        self._tilt_stages = [np.zeros(2) for _ in range(3)]
-        self._tilt_time = 0.0
-        self._calibration = None
-        self._tilt_ready = False
+        self.gravity_tilt.reset()
         self._state = self.kinematics.estimated_state(
             readings,
             pass_,
@@ -274,7 +232,7 @@ class Estimator:
             np.zeros(3),
             in_contact,
             self.omega,
-            self._ground_tilt(),
+            self.gravity_tilt.value,
         )
         return self._state
 
@@ -344,97 +302,20 @@ class Estimator:
             state[1],
             in_contact,
             self.omega,
-            self._ground_tilt(),
+            self.gravity_tilt.value,
         )
-        if dt > 0.0:
-            flat = self._flat_weights(points, forces)
-            load = float(np.minimum(np.maximum(forces / self.weight, 0.0), 1.0).sum())
-            self._update_tilt(imu_rotation @ accelerometer, imu_velocity, flat, load, dt)
-            self._smooth_tilt(dt)
+        if dt > 0.0 and self.foot_tilt_gain > 0.0 and self.terrain is None:
+            specific_force = imu_rotation @ accelerometer
+            self.gravity_tilt.update(
+                specific_force,
+                imu_velocity,
+                self._state.sole_rotations[:, :, 2],
+                self._flat_weights(points, forces),
+                float(np.minimum(np.maximum(forces / self.weight, 0.0), 1.0).sum()),
+                self.attitude.accelerometer_weight(specific_force) > 0.0,
+                dt,
+            )
         return self._state
-
-    def _update_tilt(
-        self,
-        specific_force: np.ndarray,
-        velocity: np.ndarray,
-        flat: np.ndarray,
-        load: float,
-        dt: float,
-    ) -> None:
-        """Gravity's tilt in the soles' world. While the robot stands at the start: the mean
-        specific force of the IMU (world frame) less its mean acceleration (its velocity's
-        change over the window, ``velocity`` from the legs: a robot that starts to lean
-        accelerates), its slope less that of the soles' normal where they lie flat (``flat``
-        as :meth:`_flat_weights`: the attitude filter leans a little towards the
-        accelerometer's vertical). Then the slope of the specific force low-passed at every
-        tick with the feet loaded (``load``: their share of the weight; every phase of the
-        gait alike, so that the sway averages out)."""
-        self._tilt_time += dt
-        state = self._state
-        if self.foot_tilt_gain <= 0.0 or self.terrain is not None or state is None:
-            return
-        if self._tilt_time < CALIBRATION[0] or specific_force[2] <= 0.0:
-            return
-        if self._tilt_time < CALIBRATION[1]:  # standing at the start: an average
-            calibration = self._calibration
-            if calibration is None:
-                self._calibration = calibration = {
-                    "start": self._tilt_time,
-                    "velocity": velocity.copy(),
-                    "force": np.zeros(3),
-                    "normal": np.zeros(3),
-                    "n": 0,
-                    "flat": 0.0,
-                }
-            calibration["force"] += specific_force
-            calibration["n"] += 1
-            total = float(flat.sum())
-            if total > 0.3:
-                calibration["normal"] += flat @ state.sole_rotations[:, :, 2]
-                calibration["flat"] += total
-            span = self._tilt_time - calibration["start"]
-            if span > 0.0 and calibration["flat"] > 0.0:
-                force = calibration["force"] / calibration["n"]
-                force -= (velocity - calibration["velocity"]) / span
-                normal = calibration["normal"] / calibration["flat"]
-                tilt = force[:2] / force[2] - normal[:2] / normal[2]
-                if float(tilt @ tilt) <= MAX_TILT**2:
-                    self._tilt = tilt
-                    self._tilt_ready = self._tilt_ready or span >= CALIBRATION_SPAN
-            return
-        if load < 0.3 or self.attitude.accelerometer_weight(specific_force) <= 0.0:
-            return
-        tilt = specific_force[:2] / specific_force[2]
-        if float(tilt @ tilt) > MAX_TILT**2:  # a push, an impact: no gravity reading
-            return
-        self._tilt += min(dt / self.tilt_time_constant, 1.0) * (tilt - self._tilt)
-
-    def _smooth_tilt(self, dt: float) -> None:
-        """The tilt past its deadband through three first-order stages: it moves the IK's
-        CoM target, whose acceleration the servo feed-forward turns into torques (one stage
-        passes a step into the target's velocity, two into its acceleration)."""
-        tilt = self._tilt
-        norm = math.hypot(float(tilt[0]), float(tilt[1]))
-        dead = self._tilt_deadband
-        target = np.zeros(2)
-        if norm > dead and self._tilt_ready:
-            target = tilt * (min((norm - dead) / (RAMP * dead), 1.0) if dead > 0.0 else 1.0)
-        elif max(float(np.abs(stage).max()) for stage in self._tilt_stages) < 1e-5:
-            for stage in self._tilt_stages:  # level: exactly (a decay never reaches zero)
-                stage[:] = 0.0
-            return
-        share = min(dt / SMOOTHING_TIME_CONSTANT, 1.0)
-        for stage in self._tilt_stages:
-            stage += share * (target - stage)
-            target = stage
-
-    def _ground_tilt(self) -> np.ndarray | None:
-        """Gravity's tilt in the world, smoothed (None: level, or a world that is
-        gravity's own)."""
-        tilt = self._tilt_stages[-1]
-        if not (tilt[0] or tilt[1]):
-            return None
-        return tilt.copy()
 
     def _flat_weights(self, points: np.ndarray, forces: np.ndarray) -> np.ndarray:
         """Each foot's trust as flat on its ground: its load (share of the weight) times how
@@ -502,34 +383,6 @@ class Estimator:
         return np.array(
             (float(readings.left_wrench.force[2]), float(readings.right_wrench.force[2]))
         )
-
-    def _checked_reset_inputs(self, readings: SensorReadings, q_initial: np.ndarray) -> np.ndarray:
-        model = self.robot.model
-        q = np.asarray(q_initial, dtype=float)
-        if q.shape != (model.nq,) or not np.all(np.isfinite(q)):
-            raise ConfigurationError(
-                f"Estimator.reset expects a finite initial configuration of size nq = "
-                f"{model.nq}, got shape {q.shape}; pass the configuration the walk starts from."
-            )
-        joints = np.asarray(readings.joint_positions, dtype=float)
-        if joints.shape != (model.nq - 7,) or not np.all(np.isfinite(joints)):
-            raise ConfigurationError(
-                f"The readings have {joints.shape} finite joint positions; the estimator "
-                f"expects {model.nq - 7} in Pinocchio order (robot.joint_names)."
-            )
-        for name, vector in (
-            ("gyro", readings.imu.gyro),
-            ("accelerometer", readings.imu.accelerometer),
-            ("left force", readings.left_wrench.force),
-            ("left torque", readings.left_wrench.torque),
-            ("right force", readings.right_wrench.force),
-            ("right torque", readings.right_wrench.torque),
-        ):
-            if np.shape(vector) != (3,):
-                raise ConfigurationError(
-                    f"The readings' {name} must have shape (3,), got {np.shape(vector)}."
-                )
-        return q
 
 
 __all__ = ["MIN_VELOCITY_NOISE", "Estimator"]
