@@ -73,6 +73,14 @@ def test_report_ratios_shares_and_goals_on_known_values(bounds):
     }
     rows = _rows(values)
     assert best_controller(rows) == "fast"
+    # a tie of the medians goes to the larger median ratio to paper-m per cell: "a" and "b"
+    # survive the same impulses in other cells (the same median), "b" where paper-m is weak
+    eight = cells[:8]
+    reference = {c: 0.5 if i % 2 == 0 else 2.0 for i, c in enumerate(eight)}
+    a = {c: 2.0 if i % 2 == 0 else 1.0 for i, c in enumerate(eight)}  # ratios 4 and 0.5
+    b = {c: 1.0 if i % 2 == 0 else 2.0 for i, c in enumerate(eight)}  # ratios 2 and 1
+    tied = _rows({"paper-m": reference, "b": b, "a": a})
+    assert best_controller(tied) == "a"  # median ratio 2.25 against 1.5
     text = summary_table(rows, bounds)
     line = next(row for row in text.splitlines() if row.startswith("| fast |"))
     assert "| 2.50 |" in line and "| 1.00 |" in line  # ratio to paper-m, share of the bound

@@ -116,11 +116,18 @@ def summary_table(rows: list[dict], bounds: dict[Cell, Any] | None = None) -> st
 
 
 def best_controller(rows: list[dict]) -> str | None:
-    """The QP controller (not paper-m) with the largest median impulse."""
+    """The QP controller (not paper-m) with the largest median impulse; of those tied, the
+    one with the largest median ratio to paper-m per cell (then the first listed)."""
     medians = {
         c: median(list(v.values())) or 0.0 for c, v in impulses(rows).items() if c != REFERENCE
     }
-    return max(medians, key=lambda c: medians[c]) if medians else None
+    per_cell = ratios(rows)
+
+    def ratio(controller: str) -> float:
+        values = [r for _, r in per_cell.get(controller, []) if r is not None]
+        return (median(values) or 0.0) if values else 0.0
+
+    return max(medians, key=lambda c: (round(medians[c], 9), ratio(c))) if medians else None
 
 
 def _cell_text(cell: Cell) -> str:
@@ -164,7 +171,8 @@ def goals_text(rows: list[dict], bounds: dict[Cell, Any], *, nb_worst: int = 6) 
             f"Median largest impulse of `{best}`: {m_best or 0.0:.3f} N s."
         )
     lines = [
-        f"Best QP controller (largest median): `{best}`.\n",
+        f"Best QP controller (largest median; of those tied, the largest median ratio to "
+        f"paper-m): `{best}`.\n",
         median_line,
         f"- Cells under {ONE_STEP_GOAL:.0%} of the LIPM's 1-step bound (schedule's timing): "
         f"**{len(below)}/{len(one)}** (goal: none; "
