@@ -7,7 +7,7 @@ import math
 import mujoco
 import numpy as np
 import pytest
-from conftest import get_robot
+from conftest import get_robot, walk
 
 from mpcwalk.cli import main as cli_main
 from mpcwalk.control.stabilizers.balance import make_balance
@@ -17,8 +17,7 @@ from mpcwalk.estimation.gravity_tilt import GravityTilt
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.robot.ground import FIELD_NAME, Ground, clear_radius
 from mpcwalk.sim import Simulation
-from mpcwalk.walking.runner import run_walk
-from mpcwalk.walking.specification import WalkSpec, read_spec
+from mpcwalk.walking.specification import read_spec
 
 
 def test_bad_grounds_are_named():
@@ -121,16 +120,15 @@ def test_g1_walks_on_a_ground_tilted_4_deg_leaning_into_gravity():
     4.8 cm downhill of its CoM, past its 3.5 cm half sole. The balance stabilizer keeps the
     CoM z_c tan(theta) uphill of the plan (BalanceOptions.ground_tilt), from the tilt the
     estimator reads."""
-    spec = WalkSpec.build(
+    metrics = walk(
         "g1",
-        controller="mpc",
+        "mpc",
         command=(0.1, 0.0, 0.0),
         nb_steps=8,
         seed=126,
         ground_tilt=3.9745,
         ground_tilt_direction=51.6,
-    )
-    metrics = run_walk(spec).metrics
+    ).metrics
     assert not metrics.fell and not metrics.stop_reason
     assert metrics.steps_completed == metrics.steps_planned == 9
     assert metrics.foot_position_error_cm_mean < 5.0  # measured 2.35 cm

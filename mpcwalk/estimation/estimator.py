@@ -170,7 +170,6 @@ class Estimator:
         length, width = robot.sole_size
         self._half_sole = np.array([0.5 * length, 0.5 * width, 0.0])
         self._imu_velocity = np.zeros(3)
-
         self._time: float | None = None
         self._state: EstimatedState | None = None
 
@@ -221,7 +220,6 @@ class Estimator:
         self.base.reset(q_initial[0:3], anchors, in_contact)
         self._time = float(readings.time)
         self._imu_velocity = np.zeros(3)
-        # the soles set the world: the accelerometer seen from the planned start's attitude
         self.gravity_tilt.reset()
         self._state = self.kinematics.estimated_state(
             readings,
@@ -306,24 +304,26 @@ class Estimator:
         )
         if dt > 0.0 and self.foot_tilt_gain > 0.0 and self.terrain is None:
             specific_force = imu_rotation @ accelerometer
+            flat, loads = self._flat_weights(points, forces, with_loads=True)
             self.gravity_tilt.update(
                 specific_force,
                 imu_velocity,
                 self._state.sole_rotations[:, :, 2],
-                self._flat_weights(points, forces),
-                float(np.minimum(np.maximum(forces / self.weight, 0.0), 1.0).sum()),
+                flat,
+                float(loads.sum()),
                 self.attitude.accelerometer_weight(specific_force) > 0.0,
                 dt,
             )
         return self._state
 
-    def _flat_weights(self, points: np.ndarray, forces: np.ndarray) -> np.ndarray:
+    def _flat_weights(self, points: np.ndarray, forces: np.ndarray, *, with_loads=False):
         """Each foot's trust as flat on its ground: its load (share of the weight) times how
-        far its CoP is from the sole's edges (a foot rolling on an edge is not flat)."""
+        far its CoP is from the sole's edges (a foot rolling on an edge is not flat); with
+        the loads too when ``with_loads``."""
         edge = np.max(np.abs(points[:, :2]) / self._half_sole[:2], axis=1)
-        return np.minimum(np.maximum(forces / self.weight, 0.0), 1.0) * np.minimum(
-            np.maximum((1.0 - edge) / 0.2, 0.0), 1.0
-        )
+        loads = np.minimum(np.maximum(forces / self.weight, 0.0), 1.0)
+        weights = loads * np.minimum(np.maximum((1.0 - edge) / 0.2, 0.0), 1.0)
+        return (weights, loads) if with_loads else weights
 
     def _correct_with_feet(
         self, pass_: KinematicsPass, points: np.ndarray, forces: np.ndarray, dt: float

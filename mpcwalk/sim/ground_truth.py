@@ -51,6 +51,8 @@ class GroundTruth:
         self._imu = slice(self._gyro.start, self._accelerometer.stop) if adjacent else None
         self._sites = list(self.contacts.site_ids)
         self._omega = LIPM(com_height=robot.com_height).omega  # [1/s] of the DCM
+        gravity = model.opt.gravity  # a tilted ground tilts gravity (set before this)
+        self._tilt = frozen_array(np.array(gravity[:2]) / float(gravity[2]))  # g_xy / g_z
         self.imu_mean: np.ndarray | None = None
         """Gyroscope and accelerometer readings averaged over the last control period,
         shape (6,), or None for the instantaneous ones. A MEMS IMU read at the control rate
@@ -121,16 +123,8 @@ class GroundTruth:
             joint_velocities=v[6:],
             sole_positions=sole_positions,
             sole_rotations=sole_rotations,
-            ground_tilt=self._ground_tilt(model),
+            ground_tilt=self._tilt,
         )
-
-    @staticmethod
-    def _ground_tilt(model: mujoco.MjModel) -> np.ndarray:
-        """Gravity's tilt in the world frame (a tilted ground tilts gravity): ``g_xy / g_z``."""
-        gravity = model.opt.gravity
-        if gravity[0] == 0.0 and gravity[1] == 0.0:
-            return np.zeros(2)
-        return frozen_array(np.array(gravity[:2]) / float(gravity[2]))
 
     def _exact_readings(
         self,

@@ -7,8 +7,9 @@ flushed one by one, so a sweep killed halfway keeps every case that finished; ru
 the same folder with the same configuration, it runs only the missing cases. A sweep grown
 along its axes (a list setting given more values, such as one more controller, and every
 earlier case kept) takes over the folder of the smaller one with its rows and runs only the
-new cases. A folder holding another configuration is refused unless it is overwritten. When every case has its
-row, the table is rewritten in the order of the cases (an uninterrupted run's order).
+new cases. A folder holding another configuration is refused unless it is overwritten.
+When every case has its row, the table is rewritten in the order of the cases (an
+uninterrupted run's order).
 
 Cells: numbers as Python writes them (``repr``, so that they read back exactly), ``True``
 and ``False``, lists as JSON, an empty cell for None; :func:`read_rows` reads them back.

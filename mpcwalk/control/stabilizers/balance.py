@@ -198,23 +198,23 @@ class BalanceStabilizer(Stabilizer):
     # ------------------------------------------------------------------ stabilizer hooks
     def adjust_targets(self, inputs: StabilizerInput) -> GaitTargets:
         """Update the CoM offset estimate from the measured CoP (anchored to the planned
-        feet); the IK's CoM target moved by minus the estimate."""
+        feet); the IK's CoM target moved by minus the offset (the estimate and gravity's
+        tilt's; the tilt's alone on the ground truth or without the estimate)."""
         state, estimator, targets = inputs.state, self.offset_estimator, inputs.targets
         self._yaw = float(targets.torso_yaw)
         self._observe_tilt(state)
-        if estimator is None or _is_oracle(state):
-            if not (self._tilt_offset[0] or self._tilt_offset[1]):
-                return targets
-            com_xy = np.asarray(targets.com_xy) - self._tilt_offset
-            return GaitTargets(targets.feet, com_xy, targets.torso_yaw, targets.flywheel)
-        if state is not None:
+        learnt = estimator is not None and not _is_oracle(state)  # the ground truth: no
+        if estimator is not None and learnt and state is not None:
             contacts = (state.left_foot.in_contact, state.right_foot.in_contact)
             cop = anchored_cop(state.sensors.wrenches, contacts, targets.feet, self._min_force)
             planned = inputs.zmp_reference if inputs.zmp_planned is None else inputs.zmp_planned
             if cop is not None:
                 error = self._to_heading(cop - planned)
                 estimator.update(error, np.zeros(2), inputs.dcm_error, inputs.control_period)
-        com_xy = np.asarray(targets.com_xy) - self.com_offset  # (dataclasses.replace is slow)
+        offset = self.com_offset if learnt else self._tilt_offset
+        if not learnt and not (offset[0] or offset[1]):
+            return targets
+        com_xy = np.asarray(targets.com_xy) - offset  # (dataclasses.replace is slow)
         return GaitTargets(targets.feet, com_xy, targets.torso_yaw, targets.flywheel)
 
     def adjust_joint_targets(
