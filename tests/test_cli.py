@@ -104,8 +104,10 @@ def test_tick_benchmark_reduced_run():
         "mpc casadi",
         "mpc daqp",
         "mpc-steps daqp",
+        "mpc-steps quadprog-screened (default)",
         "mpc-steps quadprog",
-        "mpc-timing quadprog",
+        "mpc-timing quadprog-screened",
+        "mpc-hip quadprog-screened",
         "mpc-hip quadprog",
         "qpmpc daqp (peer)",
     } <= set(labels)

@@ -19,7 +19,10 @@ otherwise bind, and the momentum and lean costs bring the upper body back uprigh
 momentum and the lean are affine in the torques (exact integration,
 :func:`~mpcwalk.models.flywheel.flywheel_transition`); after the ``M`` torques the momentum
 is constant, so its bound is checked at the first ``M`` samples and the lean's at those and
-the last one. Dense and rebuilt every tick, as the footstep QP.
+the last one. Dense and rebuilt every tick, as the footstep QP; what the flywheel adds
+depends on the first interval of the horizon alone (its cost block, its bound rows and their
+factor), so it is built once per first interval (the sample grid does not slide: a walk meets
+a handful).
 """
 
 import dataclasses
@@ -31,7 +34,7 @@ from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.models.flywheel import FlywheelLimits
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp.footstep_parameters import FootstepMpcParameters
-from mpcwalk.qp.footstep_qp import FootstepQP
+from mpcwalk.qp.footstep_qp import FootstepQP, inverse_cholesky
 from mpcwalk.qp.footstep_supports import SampleSupports, StepVariables
 from mpcwalk.qp.program import Prediction
 
@@ -104,7 +107,9 @@ class FlywheelFootstepQP(FootstepQP):
         self.n_base = self.n
         self.n = self.n_base + 2 * self.M
         self.flywheel_state = np.zeros((2, 2))
+        self._state_at_update = np.zeros((2, 2))
         self._fly: dict | None = None  # the lean and momentum maps of the last update
+        self._blocks: dict[int, dict] = {}  # what the flywheel adds, per first interval
 
     def _flywheel_maps(self, first: float) -> dict:
         """Lean and momentum at the samples as ``free (N,) + map (N, M) tau`` per unit state
@@ -128,6 +133,57 @@ class FlywheelFootstepQP(FootstepQP):
             maps.append({"k": k_map, "phi": phi_map, "phi_state": state_phi})
         return {"first": first, "axes": maps}
 
+    def _flywheel_blocks(self, first: float) -> dict:
+        """What the flywheel adds to the QP for a first interval of ``first`` [s], built
+        once per first interval (the sample grid does not slide, so a walk meets a few):
+        its maps, its cost block (before the cost's scale) and the matrices that turn the
+        lean and momentum without torques into its linear cost, its bound rows (the
+        torque, the momentum at the first ``M`` samples, the lean there and at the last
+        sample; rows ``+``, then ``-``, per axis) and their bounds."""
+        key = round(first * 1e9)
+        blocks = self._blocks.get(key)
+        if blocks is not None:
+            return blocks
+        N, M, fw, limits = self.N, self.M, self.flywheel, self.limits
+        maps = self._flywheel_maps(first)
+        lean_rows = np.append(np.arange(M), N - 1)
+        P = np.zeros((2 * M, 2 * M))
+        q_k, q_phi, bounds, rows = [], [], [], []
+        for a, axis in enumerate(maps["axes"]):
+            tau_max, k_max, phi_max = (
+                limits.max_torque[a],
+                limits.max_momentum[a],
+                limits.max_angle[a],
+            )
+            scale_t, scale_k, scale_p = (
+                1.0 / v if v > 0.0 else 1.0 for v in (tau_max, k_max, phi_max)
+            )
+            H = (
+                fw.torque_weight * scale_t**2 * np.eye(M)
+                + fw.momentum_weight * scale_k**2 * axis["k"].T @ axis["k"]
+                + fw.angle_weight * scale_p**2 * axis["phi"].T @ axis["phi"]
+            )
+            P[a * M : (a + 1) * M, a * M : (a + 1) * M] = H + H.T
+            q_k.append(2.0 * fw.momentum_weight * scale_k**2 * axis["k"].T)
+            q_phi.append(2.0 * fw.angle_weight * scale_p**2 * axis["phi"].T)
+            for matrix in (np.eye(M), axis["k"][:M], axis["phi"][lean_rows]):
+                block = np.zeros((2 * len(matrix), 2 * M))
+                block[: len(matrix), a * M : (a + 1) * M] = matrix
+                block[len(matrix) :, a * M : (a + 1) * M] = -matrix
+                rows.append(block)
+            bounds.append((tau_max, k_max, phi_max))
+        blocks = {
+            "maps": maps,
+            "P": P,
+            "q_k": q_k,
+            "q_phi": q_phi,
+            "lean_rows": lean_rows,
+            "bounds": bounds,
+            "G": np.vstack(rows),
+        }
+        self._blocks[key] = blocks
+        return blocks
+
     def update(
         self,
         x0: np.ndarray,
@@ -137,80 +193,60 @@ class FlywheelFootstepQP(FootstepQP):
         steps: StepVariables,
         eta: tuple[np.ndarray, np.ndarray] | None = None,
     ) -> None:
-        """:meth:`FootstepQP.update`, then the flywheel's columns, rows and cost from
-        :attr:`flywheel_state`."""
-        self.n = self.n_base  # the footstep QP's own columns
-        try:
-            super().update(x0, t, velocity_reference, supports, steps, eta)
-        finally:
-            self.n = self.n_base + 2 * self.M
+        """:meth:`FootstepQP.update` (its rows with the flywheel's columns, zero, and the
+        flywheel's rows, :meth:`_extra_rows`), then the flywheel's cost and its columns of
+        the ZMP rows, from :attr:`flywheel_state`."""
+        self._state_at_update = np.array(self.flywheel_state, dtype=float)
+        super().update(x0, t, velocity_reference, supports, steps, eta)
         N, M, nb, p = self.N, self.M, self.n_base, self.parameters
-        limits, fw = self.limits, self.flywheel
-        first = float(self.sample_times[0] - t)
-        if self._fly is None or abs(self._fly["first"] - first) > 1e-9:
-            self._fly = self._flywheel_maps(first)
-        state = np.asarray(self.flywheel_state, dtype=float)
-        P = np.zeros((self.n, self.n))
-        P[:nb, :nb] = self.P
-        q = np.concatenate([self.q, np.zeros(2 * M)])
-        # the ZMP rows see -tau / (m g) of their interval
+        blocks = self._flywheel_blocks(float(self.sample_times[0] - t))
+        state = self._state_at_update
+        self.P[nb:, nb:] = self.cost_scale * blocks["P"]
+        for a, axis in enumerate(blocks["maps"]["axes"]):
+            cols = slice(nb + a * M, nb + (a + 1) * M)
+            self.q[cols] = self.cost_scale * (
+                blocks["q_k"][a] @ np.full(N, state[1, a])
+                + blocks["q_phi"][a] @ (axis["phi_state"] @ state[:, a])
+            )
+        # the ZMP rows (the first rows of G) see -tau / (m g) of their interval
         point, row = np.nonzero(supports.rows)
-        interval = point // p.constraint_points
         normals = supports.normals[point, row]
-        G_zmp = np.zeros((len(point), 2 * M))
+        interval = point // p.constraint_points
         early = np.flatnonzero(interval < M)
         for a in range(2):
-            G_zmp[early, a * M + interval[early]] = -normals[early, a] / limits.weight
-        extra_rows, extra_h = [], []
-        for a, maps in enumerate(self._fly["axes"]):
-            cols = nb + a * M + np.arange(M)
-            tau_max, k_max, phi_max = (
-                limits.max_torque[a],
-                limits.max_momentum[a],
-                limits.max_angle[a],
-            )
-            k_free = np.full(N, state[1, a])
-            phi_free = maps["phi_state"] @ state[:, a]
-            scale_t, scale_k, scale_p = (
-                1.0 / v if v > 0.0 else 1.0 for v in (tau_max, k_max, phi_max)
-            )
-            H = (
-                fw.torque_weight * scale_t**2 * np.eye(M)
-                + fw.momentum_weight * scale_k**2 * maps["k"].T @ maps["k"]
-                + fw.angle_weight * scale_p**2 * maps["phi"].T @ maps["phi"]
-            )
-            g = (
-                fw.momentum_weight * scale_k**2 * maps["k"].T @ k_free
-                + fw.angle_weight * scale_p**2 * maps["phi"].T @ phi_free
-            )
-            P[np.ix_(cols, cols)] = self.cost_scale * (H + H.T)
-            q[cols] = 2.0 * self.cost_scale * g
-            # bounds: the torque, the momentum at the first M samples, the lean there and
-            # at the last sample
-            lean_rows = np.append(np.arange(M), N - 1)
-            for matrix, free, bound in (
-                (np.eye(M), np.zeros(M), tau_max),
-                (maps["k"][:M], k_free[:M], k_max),
-                (maps["phi"][lean_rows], phi_free[lean_rows], phi_max),
-            ):
-                block = np.zeros((2 * len(matrix), self.n))
-                block[: len(matrix), cols] = matrix
-                block[len(matrix) :, cols] = -matrix
-                extra_rows.append(block)
-                extra_h.append(np.concatenate([bound - free, bound + free]))
-        G = np.zeros((len(self.h), self.n))
-        G[:, :nb] = self.G
-        G[: len(point), nb:] = G_zmp
-        terminal = self.terminal_rows
-        if terminal:  # keep the terminal DCM rows last (without_terminal_rows drops them)
-            head, tail = G[:-terminal], G[-terminal:]
-            h_head, h_tail = self.h[:-terminal], self.h[-terminal:]
-        else:
-            head, tail, h_head, h_tail = G, G[:0], self.h, self.h[:0]
-        self.G = np.vstack([head, *extra_rows, tail])
-        self.h = np.concatenate([h_head, *extra_h, h_tail])
-        self.P, self.q, self.m = P, q, len(self.h)
-        self._state_at_update = state.copy()
+            self.G[early, nb + a * M + interval[early]] = -normals[early, a] / self.limits.weight
+
+    def _extra_rows(self, supports: SampleSupports) -> tuple[np.ndarray, np.ndarray]:
+        """The flywheel's bounds: the torque, the momentum at the first ``M`` samples, the
+        lean there and at the last sample (rows ``+``, then ``-``, per quantity and axis)."""
+        M, nb = self.M, self.n_base
+        blocks = self._flywheel_blocks(float(self.sample_times[0] - self.time))
+        self._fly = blocks["maps"]
+        state, lean_rows = self._state_at_update, blocks["lean_rows"]
+        bounds = []
+        for a, axis in enumerate(blocks["maps"]["axes"]):
+            k_free = np.full(M, state[1, a])
+            phi_free = (axis["phi_state"] @ state[:, a])[lean_rows]
+            for free, bound in zip((np.zeros(M), k_free, phi_free), blocks["bounds"][a]):
+                bounds += [bound - free, bound + free]
+        G = blocks.get("G_rows")
+        if G is None:  # the rows with every column of the QP, made once
+            G = blocks["G_rows"] = np.zeros((len(blocks["G"]), self.n))
+            G[:, nb:] = blocks["G"]
+        return G, np.concatenate(bounds)
+
+    def cost_factor(self) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`FootstepQP.cost_factor` with the flywheel's columns last: its cost block
+        depends on the first interval alone, so its factor is computed once per first
+        interval."""
+        order, inverse = super().cost_factor()  # zero in the flywheel's columns
+        blocks = self._flywheel_blocks(float(self.sample_times[0] - self.time))
+        inverse_fly = blocks.get("inverse_factor")
+        if inverse_fly is None:
+            inverse_fly = blocks["inverse_factor"] = inverse_cholesky(blocks["P"])
+        nb = self.n_base
+        inverse[nb:, nb:] = inverse_fly / np.sqrt(self.cost_scale)
+        return np.concatenate([order, np.arange(nb, self.n)]), inverse
 
     # ------------------------------------------------------------- solutions
     def footsteps(self, x: np.ndarray) -> np.ndarray:

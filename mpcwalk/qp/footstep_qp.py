@@ -23,6 +23,7 @@ prediction products: the footstep columns change with the samples anyway.
 
 import numpy as np
 import qpsolvers
+from scipy.linalg import lapack
 
 from mpcwalk.exceptions import ConfigurationError, NotReset
 from mpcwalk.models.cart_table import CartTable
@@ -31,6 +32,22 @@ from mpcwalk.qp.footstep_bounds import band_rows, box_rows
 from mpcwalk.qp.footstep_parameters import FootstepMpcParameters
 from mpcwalk.qp.footstep_supports import SampleSupports, StepVariables
 from mpcwalk.qp.program import Prediction
+
+
+def inverse_cholesky(matrix: np.ndarray) -> np.ndarray:
+    """``R^-1`` of the upper triangular Cholesky factor ``R`` of a symmetric positive
+    definite ``matrix`` (``matrix = R^T R``).
+
+    Raises:
+        numpy.linalg.LinAlgError: ``matrix`` is not positive definite.
+    """
+    factor, info = lapack.dpotrf(matrix, lower=0)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"The matrix is not positive definite (dpotrf info {info}).")
+    inverse, info = lapack.dtrtri(factor, lower=0)
+    if info != 0:  # pragma: no cover - a positive definite factor is invertible
+        raise np.linalg.LinAlgError(f"The Cholesky factor is singular (dtrtri info {info}).")
+    return np.triu(inverse)
 
 
 class FootstepQP:
@@ -59,7 +76,9 @@ class FootstepQP:
             )
         p = self.parameters = parameters
         self.N, self.nf = N, nf = parameters.horizon, int(nb_footsteps)
-        self.n = 2 * (N + nf)
+        self.n = self.n_base = 2 * (N + nf)
+        """Columns of the QP, and the footstep QP's own (a subclass may add columns after
+        them: zero in the rows built here)."""
         self.m = 0
         self.terminal_rows = 0
         """Rows of the terminal DCM constraint in the last update (``capturability``)."""
@@ -215,7 +234,8 @@ class FootstepQP:
         H[N:, :N] = H[:N, N:].T
         H[N:, N:] = wz * S.T @ S + wf * M.T @ M
         scale = self.cost_scale = 2.0 / np.max(np.diag(H))  # largest diagonal entry of P is 1
-        P, q = np.zeros((self.n, self.n)), np.empty(self.n)
+        self._H = H
+        P, q = np.zeros((self.n, self.n)), np.zeros(self.n)
         zmp_free, vel_free = pred["Pzs"] @ x0, pred["Pvs"] @ x0  # (N, 2)
         scaled = scale * H
         for a, cols in enumerate(self._columns):
@@ -233,14 +253,17 @@ class FootstepQP:
             )
             q[cols[N:]] = scale * (-wz * S.T @ z_res - wf * M.T @ steps.reference[:, a])
         self.P, self.q = P, q
-        self.G, self.h = self._constraints(x0, supports, steps)
+        self.x0, self.time, self.sample_times = x0.copy(), float(t), times
+        blocks = self._constraints(x0, supports, steps)
+        blocks.append(self._extra_rows(supports))
         self.terminal_rows = 0
         if p.capturability:
-            G_dcm, h_dcm = self._terminal_dcm_rows(x0, supports)
-            self.G, self.h = np.vstack([self.G, G_dcm]), np.concatenate([self.h, h_dcm])
-            self.terminal_rows = len(h_dcm)
+            blocks.append(self._terminal_dcm_rows(x0, supports))
+            self.terminal_rows = len(blocks[-1][1])
+        # one copy of every row into G (the terminal rows last: without_terminal_rows)
+        self.G = np.concatenate([block for block, _ in blocks])
+        self.h = np.concatenate([bound for _, bound in blocks])
         self.m = len(self.h)
-        self.x0, self.time, self.sample_times = x0.copy(), float(t), times
         self.supports = supports
         self._initial_footsteps = np.asarray(steps.initial, dtype=float)
 
@@ -249,6 +272,7 @@ class FootstepQP:
         point, row = np.nonzero(supports.rows)
         normals = supports.normals[point, row]  # (m_z, 2)
         G_zmp = np.empty((len(point), self.n))
+        G_zmp[:, self.n_base :] = 0.0  # a subclass's columns
         Pzu, S = self._pred["Czu"][point], supports.weights[point]
         zmp_free = self._pred["Czs"][point] @ x0
         for a in range(2):
@@ -288,12 +312,17 @@ class FootstepQP:
         fixed = steps.predecessor_xy[active]
         moved = np.einsum("rka,ra->rk", e, fixed)
         h_reach = np.where(chained[:, None], bounds, bounds + moved).ravel()
-        G_box, h_box = box_rows(steps, self.n, N, nf)
-        G_band, h_band = band_rows(steps, self.n, N, nf)
-        return (
-            np.vstack([G_zmp, G_reach, G_box, G_band]),
-            np.concatenate([h_zmp, h_reach, h_box, h_band]),
-        )
+        return [
+            (G_zmp, h_zmp),
+            (G_reach, h_reach),
+            box_rows(steps, self.n, N, nf),
+            band_rows(steps, self.n, N, nf),
+        ]
+
+    def _extra_rows(self, supports: SampleSupports) -> tuple[np.ndarray, np.ndarray]:
+        """Rows a subclass adds after the ZMP, reach and band rows (and before the terminal
+        DCM rows) of the tick just updated: none here."""
+        return np.zeros((0, self.n)), np.zeros(0)
 
     def _terminal_dcm_rows(self, x0, supports: SampleSupports):
         """``normal . (xi_N - S_N F) <= offset``: the DCM at the last sample inside the
@@ -321,6 +350,39 @@ class FootstepQP:
     def terminal_dcm(self, x: np.ndarray) -> np.ndarray:
         """DCM at the last sample of a solution, shape (2,), in [m]."""
         return self._pred["Pds"] @ self.x0 + self._pred["Pdu"] @ self.jerks(x)
+
+    def cost_factor(self) -> tuple[np.ndarray, np.ndarray]:
+        """The cost matrix of the last :meth:`update` factorised from its blocks: ``(order,
+        R_inv)`` with ``P[order][:, order] = R^T R``, ``R`` upper triangular, ``R_inv`` its
+        inverse (what an active-set solver such as quadprog starts from).
+
+        In the order of each axis's jerks then footsteps, ``P`` is the same block ``s H``
+        twice (the axes share the cost); the jerks' block of ``H`` depends on the first
+        interval alone, so its factor is computed once per first interval, and each tick
+        only adds the footsteps' (``nf`` columns): ``R_12 = R_11^-T H_12``, ``R_22`` the
+        Cholesky factor of ``H_22 - R_12^T R_12``.
+
+        Raises:
+            numpy.linalg.LinAlgError: The footsteps' block is not positive definite.
+        """
+        self.require_update()
+        N, nf, H = self.N, self.nf, self._H
+        inverse_11 = self._pred.get("H_jerk_inverse_factor")
+        if inverse_11 is None:
+            inverse_11 = self._pred["H_jerk_inverse_factor"] = inverse_cholesky(
+                self._pred["H_jerk"]
+            )
+        R_12 = inverse_11.T @ H[:N, N:]
+        inverse_22 = inverse_cholesky(H[N:, N:] - R_12.T @ R_12)
+        block = np.zeros((N + nf, N + nf))
+        block[:N, :N] = inverse_11
+        block[:N, N:] = -(inverse_11 @ R_12) @ inverse_22
+        block[N:, N:] = inverse_22
+        block /= np.sqrt(self.cost_scale)
+        inverse = np.zeros((self.n, self.n))
+        inverse[: N + nf, : N + nf] = block
+        inverse[N + nf : 2 * (N + nf), N + nf : 2 * (N + nf)] = block
+        return np.concatenate(self._columns), inverse
 
     def problem(self, dense: bool = True) -> qpsolvers.Problem:
         """The QP in qpsolvers form ``min 1/2 x'Px + q'x, G x <= h`` (dense arrays; the

@@ -9,6 +9,9 @@ Names:
 - ``"daqp-direct"``: DAQP's own workspace, set up once, then vector updates and a hot
   start from the previous working set
   (:class:`~mpcwalk.qp.solvers.daqp_direct.DaqpSolver`);
+- ``"quadprog-screened"``: quadprog on the rows near binding, the rows it violates added
+  until none is (:class:`~mpcwalk.qp.solvers.screened.ScreenedSolver`), for dense QPs with
+  many rows of which few bind (the footstep-adaptive MPC's);
 - ``"kkt"``: one linear solve of the KKT system, for QPs without inequalities
   (``constrained=False``), exact up to round-off
   (:class:`~mpcwalk.qp.solvers.kkt.KktSolver`);
@@ -131,6 +134,12 @@ def _make_kkt(**settings) -> QPSolver:
     return KktSolver()
 
 
+def _make_screened(**settings) -> QPSolver:
+    from mpcwalk.qp.solvers.screened import ScreenedSolver
+
+    return ScreenedSolver(**settings)
+
+
 def _casadi_entry(name: str, plugin: str, summary: str = "") -> Entry[Backend]:
     def make(**settings) -> QPSolver:
         from mpcwalk.qp.solvers.casadi_qp import CasadiSolver
@@ -186,6 +195,7 @@ def default_entries() -> list[Entry[Backend]]:
     """The back-ends of :data:`SOLVERS`, in the order they are listed."""
     osqp_missing = importlib.util.find_spec("osqp") is None
     daqp_missing = importlib.util.find_spec("daqp") is None
+    quadprog_missing = importlib.util.find_spec("quadprog") is None
     entries = [
         backend_entry(
             "osqp-direct",
@@ -202,6 +212,15 @@ def default_entries() -> list[Entry[Backend]]:
             _make_daqp,
             is_available=lambda: not daqp_missing,
             install="pip install daqp",
+            warm_start=True,
+            definite_only=True,
+        ),
+        backend_entry(
+            "quadprog-screened",
+            "quadprog on the rows near binding, rows added until none is violated (dense QPs)",
+            _make_screened,
+            is_available=lambda: not quadprog_missing,
+            install="pip install quadprog",
             warm_start=True,
             definite_only=True,
         ),
