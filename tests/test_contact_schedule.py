@@ -96,3 +96,44 @@ def test_zero_double_support_ratio():
     sched = ContactSchedule(make_plan(2, timing=StepTiming(double_support_ratio=0.0)))
     assert all(ph.duration > 0 for ph in sched.phases)
     assert sum(ph.single_support for ph in sched.phases) == 2
+
+
+def test_a_schedule_with_later_steps_moved_keeps_the_phases_before_them():
+    """``with_steps`` (the footstep MPC's publications) keeps the phases of the steps
+    before the first moved one, and builds the same schedule as a full build."""
+    from mpcwalk.footsteps import VelocityCommand, VelocityPlanner
+
+    plan = VelocityPlanner().plan(VelocityCommand(vx=0.1, vy=0.02, vyaw=0.3), nb_steps=12)
+    schedule = ContactSchedule(plan)
+    for first, move in ((5, (0.004, -0.002)), (2, (0.001, 0.003)), (9, (-0.002, 0.0))):
+        steps = list(schedule.plan.steps)
+        for k in range(first, len(steps)):
+            xy = steps[k].position[:2] + np.array(move)
+            steps[k] = steps[k].moved(position=[*xy, steps[k].position[2]])
+        moved = schedule.with_steps(steps)
+        full = ContactSchedule(moved.plan, moved.foot)
+        kept = [ph for ph in schedule.phases if ph.step_index < first]
+        assert all(a is b for a, b in zip(moved.phases, kept))  # the same objects
+        assert moved.phases[len(kept)] is not schedule.phases[len(kept)]
+        assert len(moved.phases) == len(full.phases)
+        for a, b in zip(moved.phases, full.phases):
+            assert (a.start, a.end, a.step_index, a.support_side) == (
+                b.start,
+                b.end,
+                b.step_index,
+                b.support_side,
+            )
+            assert {s: f.position.tolist() for s, f in a.feet.items()} == {
+                s: f.position.tolist() for s, f in b.feet.items()
+            }
+        for name in ("phase_centers", "support_positions", "zmp_breakpoint_values"):
+            np.testing.assert_allclose(getattr(moved, name), getattr(full, name), atol=1e-12)
+        A, b = moved.phase_halfplanes
+        A_full, b_full = full.phase_halfplanes
+        np.testing.assert_allclose(A, A_full, atol=1e-12)
+        np.testing.assert_allclose(b, b_full, atol=1e-12)
+        times = np.linspace(0.0, full.duration, 997)
+        np.testing.assert_allclose(
+            moved.zmp_reference(times), full.zmp_reference(times), atol=1e-12
+        )
+        schedule = moved

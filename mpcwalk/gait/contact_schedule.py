@@ -91,6 +91,11 @@ class ContactSchedule:
         # Polygons at the origin by shape (yaws, and the second foot's offset): a footstep
         # moved without turning is its shape translated (shared along the reuse chain)
         self._shapes: dict[tuple, SupportPolygon] = reused._shapes if reused is not None else {}
+        # Padded normals by normals array (id, and the array kept so the id stays its own):
+        # the polygons of a shape share them (shared along the reuse chain)
+        self._padded_normals: dict[int, tuple[np.ndarray, np.ndarray]] = (
+            reused._padded_normals if reused is not None else {}
+        )
         timing = plan.timing
         self.step_duration = timing.step_duration
         self.t_b = timing.single_support_begin
@@ -99,19 +104,40 @@ class ContactSchedule:
         self.walk_end = self.walk_start + plan.nb_steps * self.step_duration
         self.duration = self.walk_end + timing.final_duration
         self._stances = plan.stances()
-        self._rects = [{side: self._rect(f) for side, f in st.items()} for st in self._stances]
+        # the phases of the steps before the first one that differs from the reused schedule's
+        # are the reused schedule's (their stances hold the same feet)
+        first = self._first_new_step(reused)
+        source: ContactSchedule | None = reused if first > 0 else None
+        kept = 0 if source is None else sum(1 for ph in source.phases if ph.step_index < first)
+        rects: list[dict[Side, SupportPolygon]] = []
+        phases: list[Phase] = []
         self._phase_keys: list[tuple] = []
-        self.phases: list[Phase] = self._build_phases()
+        if source is not None:
+            rects = source._rects[: first + 1]
+            phases = list(source.phases[:kept])
+            self._phase_keys = list(source._phase_keys[:kept])
+            for key, phase in zip(self._phase_keys, phases):  # their polygons, for later reuse
+                self._polygons.setdefault(key, phase.polygon)
+                padded = source._padded.get(key)
+                if padded is not None:
+                    self._padded.setdefault(key, padded)
+        self._rects: list[dict[Side, SupportPolygon]] = rects + [
+            {side: self._rect(f) for side, f in st.items()} for st in self._stances[len(rects) :]
+        ]
+        self.phases: list[Phase] = self._build_phases(phases, first if source is not None else 0)
         self._phase_starts = np.array([ph.start for ph in self.phases])
         self._phase_start_list = [float(start) for start in self._phase_starts]
         A, b = zip(
             *(
                 self._padded_halfplanes(key, ph.polygon)
-                for key, ph in zip(self._phase_keys, self.phases)
+                for key, ph in zip(self._phase_keys[kept:], self.phases[kept:])
             )
         )
         self._phase_A = np.array(A)
         self._phase_b = np.array(b)
+        if source is not None:
+            self._phase_A = np.concatenate([source._phase_A[:kept], self._phase_A])
+            self._phase_b = np.concatenate([source._phase_b[:kept], self._phase_b])
         self._phase_A.setflags(write=False)
         self._phase_b.setflags(write=False)
         self._phase_single = np.array([ph.single_support for ph in self.phases])
@@ -121,10 +147,12 @@ class ContactSchedule:
             [0.5 * (st[Side.LEFT].xy + st[Side.RIGHT].xy) for st in self._stances]
         )
         self.support_positions = np.array(
-            [plan.support_foot(k).xy for k in range(plan.nb_steps)]
+            [self._stances[k][step.side.other].xy for k, step in enumerate(plan.steps)]
         ).reshape(-1, 2)
         #: Support centre of each phase (support foot, or midpoint of the feet), (n_phases, 2).
-        self.phase_centers = np.array([_center(ph.feet) for ph in self.phases])
+        self.phase_centers = np.array([_center(ph.feet) for ph in self.phases[kept:]])
+        if source is not None:
+            self.phase_centers = np.concatenate([source.phase_centers[:kept], self.phase_centers])
         # The ZMP reference is piecewise linear with breakpoints at phase
         # boundaries: tabulate it there (and just before each, in case it jumps,
         # as with no double support) so that queries are one interpolation.
@@ -182,9 +210,19 @@ class ContactSchedule:
         if padded is None:
             padded = self._reused_padded.get(key)
             if padded is None:
-                padded = polygon.padded_halfplanes(MAX_POLYGON_EDGES)
+                padded = self._pad(polygon)
             self._padded[key] = padded
         return padded
+
+    def _pad(self, polygon: SupportPolygon) -> tuple[np.ndarray, np.ndarray]:
+        """``polygon.padded_halfplanes(MAX_POLYGON_EDGES)``, its padded normals made once
+        per normals array: the polygons of a shape translated share their shape's."""
+        entry = self._padded_normals.get(id(polygon.A))
+        if entry is None or entry[0] is not polygon.A:
+            A, b = polygon.padded_halfplanes(MAX_POLYGON_EDGES)
+            self._padded_normals[id(polygon.A)] = (polygon.A, A)
+            return A, b
+        return entry[1], polygon.padded_offsets(MAX_POLYGON_EDGES)
 
     def _rect(self, foot: Footstep) -> SupportPolygon:
         return self._polygon(
@@ -222,9 +260,29 @@ class ContactSchedule:
         xy = np.asarray(position, dtype=float)[:2]
         return SupportPolygon(polygon.vertices + xy, polygon.A, polygon.b + polygon.A @ xy)
 
-    def _build_phases(self) -> list[Phase]:
+    def _first_new_step(self, reused: Optional["ContactSchedule"]) -> int:
+        """Index of the first step of this plan that is not the same footstep (the same
+        object) as the reused schedule's, with the same initial feet and timing; 0 without
+        a reused schedule (nothing to keep)."""
+        if reused is None:
+            return 0
+        mine, theirs = self.plan, reused.plan
+        if (
+            mine.timing != theirs.timing
+            or mine.initial_left is not theirs.initial_left
+            or mine.initial_right is not theirs.initial_right
+        ):
+            return 0
+        first = 0
+        for step, other in zip(mine.steps, theirs.steps):
+            if step is not other:
+                break
+            first += 1
+        return first
+
+    def _build_phases(self, phases: list[Phase], first: int) -> list[Phase]:
+        """The phases, after ``phases`` (those of the steps before ``first``, kept)."""
         plan, T = self.plan, self.step_duration
-        phases: list[Phase] = []
 
         def double(start, end, k, stance_index):
             st = self._stances[stance_index]
@@ -233,9 +291,10 @@ class ContactSchedule:
             self._phase_keys.append(key)
             phases.append(Phase(start, end, k, False, None, dict(st), poly))
 
-        if self.walk_start > 0.0:
+        if self.walk_start > 0.0 and not phases:
             double(0.0, self.walk_start, -1, 0)
-        for k, step in enumerate(plan.steps):
+        for k in range(first, plan.nb_steps):
+            step = plan.steps[k]
             t0 = self.walk_start + k * T
             support = step.side.other
             if self.t_b > 0.0:

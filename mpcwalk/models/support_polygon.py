@@ -138,8 +138,13 @@ class SupportPolygon:
                 f"Polygon has {k} edges, more than the {nb_rows} rows reserved."
             )
         A = np.vstack([self.A, np.repeat(self.A[:1], nb_rows - k, axis=0)])
-        b = np.concatenate([self.b, np.repeat(self.b[:1] + slack, nb_rows - k)])
-        return A, b
+        return A, self.padded_offsets(nb_rows, slack)
+
+    def padded_offsets(self, nb_rows: int, slack: float = 10.0) -> np.ndarray:
+        """The offsets ``b`` of :meth:`padded_halfplanes` alone, shape (nb_rows,) (its
+        normals depend on the edges' directions only: a translated polygon shares them)."""
+        k = len(self.b)
+        return np.concatenate([self.b, np.repeat(self.b[:1] + slack, nb_rows - k)])
 
 
 def foot_rectangle(
