@@ -15,11 +15,8 @@ from typing import Optional
 import numpy as np
 
 from mpcwalk.footsteps.footstep import FootGeometry, Footstep, FootstepPlan, Side
-from mpcwalk.models.support_polygon import SupportPolygon, foot_rectangle, sole_footprint
-
-#: Half-plane rows reserved per sample: a double-support hull of two
-#: rectangles has at most 8 edges.
-MAX_POLYGON_EDGES = 8
+from mpcwalk.gait.support_polygons import MAX_POLYGON_EDGES, SupportPolygons, pose_key
+from mpcwalk.models.support_polygon import SupportPolygon
 
 _KNOT_GAP = 1e-9  # [s] knot placed just before each breakpoint of the ZMP reference
 
@@ -82,19 +79,11 @@ class ContactSchedule:
     ) -> None:
         self.plan = plan
         self.foot = foot
-        # Polygons by foot pose (and pair of poses for a hull), and their padded half-planes.
-        self._polygons: dict[tuple, SupportPolygon] = {}
-        self._padded: dict[tuple, tuple] = {}
         reused = reuse if reuse is not None and reuse.foot == foot else None
-        self._reused_polygons = reused._polygons if reused is not None else {}
-        self._reused_padded = reused._padded if reused is not None else {}
-        # Polygons at the origin by shape (yaws, and the second foot's offset): a footstep
-        # moved without turning is its shape translated (shared along the reuse chain)
-        self._shapes: dict[tuple, SupportPolygon] = reused._shapes if reused is not None else {}
-        # Padded normals by normals array (id, and the array kept so the id stays its own):
-        # the polygons of a shape share them (shared along the reuse chain)
-        self._padded_normals: dict[int, tuple[np.ndarray, np.ndarray]] = (
-            reused._padded_normals if reused is not None else {}
+        # the support polygons of the feet and pairs of feet, by pose (the reused schedule's
+        # when at the same poses)
+        self._polygons: SupportPolygons = SupportPolygons(
+            foot, reuse=reused._polygons if reused is not None else None
         )
         timing = plan.timing
         self.step_duration = timing.step_duration
@@ -117,19 +106,17 @@ class ContactSchedule:
             phases = list(source.phases[:kept])
             self._phase_keys = list(source._phase_keys[:kept])
             for key, phase in zip(self._phase_keys, phases):  # their polygons, for later reuse
-                self._polygons.setdefault(key, phase.polygon)
-                padded = source._padded.get(key)
-                if padded is not None:
-                    self._padded.setdefault(key, padded)
+                self._polygons.keep(key, phase.polygon)
         self._rects: list[dict[Side, SupportPolygon]] = rects + [
-            {side: self._rect(f) for side, f in st.items()} for st in self._stances[len(rects) :]
+            {side: self._polygons.rect(f) for side, f in st.items()}
+            for st in self._stances[len(rects) :]
         ]
         self.phases: list[Phase] = self._build_phases(phases, first if source is not None else 0)
         self._phase_starts = np.array([ph.start for ph in self.phases])
         self._phase_start_list = [float(start) for start in self._phase_starts]
         A, b = zip(
             *(
-                self._padded_halfplanes(key, ph.polygon)
+                self._polygons.padded_halfplanes(key, ph.polygon)
                 for key, ph in zip(self._phase_keys[kept:], self.phases[kept:])
             )
         )
@@ -162,7 +149,7 @@ class ContactSchedule:
         #: Times where the ZMP reference may bend, and its values there, (k,) and (k, 2).
         self.zmp_breakpoints = np.unique(np.concatenate([bounds, bounds[1:] - _KNOT_GAP]))
         self.zmp_breakpoint_values = self._zmp_reference_exact(self.zmp_breakpoints)
-        del self._reused_polygons, self._reused_padded
+        self._polygons.forget_reused()
 
     def with_steps(self, steps) -> "ContactSchedule":
         """The same schedule with other landing poses (same initial feet, timing and sole).
@@ -177,88 +164,6 @@ class ContactSchedule:
             self.plan.initial_left, self.plan.initial_right, tuple(steps), self.plan.timing
         )
         return ContactSchedule(plan, self.foot, reuse=self)
-
-    @staticmethod
-    def _pose_key(foot: Footstep) -> tuple:
-        """What a foot's polygon depends on: (x, y, yaw), and the roll and pitch of a tilted
-        foot (its polygon is the sole's horizontal projection; the height does not count)."""
-        key = (float(foot.position[0]), float(foot.position[1]), float(foot.yaw))
-        return key if foot.is_flat else (*key, foot.roll, foot.pitch)
-
-    @staticmethod
-    def _shape_key(foot: Footstep) -> tuple:
-        """What a foot's polygon at the origin depends on: its yaw, roll and pitch."""
-        yaw = float(foot.yaw)
-        return (yaw,) if foot.is_flat else (yaw, foot.roll, foot.pitch)
-
-    def _footprint(self, offset, foot: Footstep) -> SupportPolygon:
-        """The sole of ``foot`` centred at ``offset`` (x, y) [m], projected on the ground."""
-        length, width = self.foot.length, self.foot.width
-        if foot.is_flat:
-            return foot_rectangle(offset, float(foot.yaw), length, width)
-        return sole_footprint(offset, foot.rotation_matrix, length, width)
-
-    def _polygon(self, key: tuple, build) -> SupportPolygon:
-        poly = self._polygons.get(key)
-        if poly is None:
-            poly = self._reused_polygons.get(key)
-            self._polygons[key] = poly = build() if poly is None else poly
-        return poly
-
-    def _padded_halfplanes(self, key: tuple, polygon: SupportPolygon):
-        padded = self._padded.get(key)
-        if padded is None:
-            padded = self._reused_padded.get(key)
-            if padded is None:
-                padded = self._pad(polygon)
-            self._padded[key] = padded
-        return padded
-
-    def _pad(self, polygon: SupportPolygon) -> tuple[np.ndarray, np.ndarray]:
-        """``polygon.padded_halfplanes(MAX_POLYGON_EDGES)``, its padded normals made once
-        per normals array: the polygons of a shape translated share their shape's."""
-        entry = self._padded_normals.get(id(polygon.A))
-        if entry is None or entry[0] is not polygon.A:
-            A, b = polygon.padded_halfplanes(MAX_POLYGON_EDGES)
-            self._padded_normals[id(polygon.A)] = (polygon.A, A)
-            return A, b
-        return entry[1], polygon.padded_offsets(MAX_POLYGON_EDGES)
-
-    def _rect(self, foot: Footstep) -> SupportPolygon:
-        return self._polygon(
-            self._pose_key(foot),
-            lambda: self._translated(
-                self._shape_key(foot), foot.xy, lambda: self._footprint((0.0, 0.0), foot)
-            ),
-        )
-
-    def _hull(self, feet: dict[Side, Footstep]) -> SupportPolygon:
-        """Support polygon of both feet: the hull of their footprints, built at the origin
-        once per shape (the angles of the feet and the offset between them, to 1e-12 m)."""
-        first, second = feet.values()
-        offset = second.xy - first.xy
-        shape = (
-            self._shape_key(first),
-            self._shape_key(second),
-            round(float(offset[0]), 12),
-            round(float(offset[1]), 12),
-        )
-
-        def local() -> SupportPolygon:
-            return SupportPolygon.union_hull(
-                (self._footprint((0.0, 0.0), first), self._footprint(offset, second))
-            )
-
-        return self._translated(shape, first.xy, local)
-
-    def _translated(self, shape: tuple, position: np.ndarray, build) -> SupportPolygon:
-        """The polygon of ``shape`` (built at the origin by ``build`` the first time) moved to
-        ``position`` (x, y) [m]."""
-        polygon = self._shapes.get(shape)
-        if polygon is None:
-            polygon = self._shapes[shape] = build()
-        xy = np.asarray(position, dtype=float)[:2]
-        return SupportPolygon(polygon.vertices + xy, polygon.A, polygon.b + polygon.A @ xy)
 
     def _first_new_step(self, reused: Optional["ContactSchedule"]) -> int:
         """Index of the first step of this plan that is not the same footstep (the same
@@ -286,8 +191,8 @@ class ContactSchedule:
 
         def double(start, end, k, stance_index):
             st = self._stances[stance_index]
-            key = tuple(self._pose_key(f) for f in st.values())
-            poly = self._polygon(key, lambda: self._hull(st))
+            key = tuple(pose_key(f) for f in st.values())
+            poly = self._polygons.polygon(key, lambda: self._polygons.hull(st))
             self._phase_keys.append(key)
             phases.append(Phase(start, end, k, False, None, dict(st), poly))
 
@@ -300,7 +205,7 @@ class ContactSchedule:
             if self.t_b > 0.0:
                 double(t0, t0 + self.t_b, k, k)
             foot = self._stances[k][support]
-            self._phase_keys.append(self._pose_key(foot))
+            self._phase_keys.append(pose_key(foot))
             phases.append(
                 Phase(
                     t0 + self.t_b,
@@ -457,3 +362,6 @@ class ContactSchedule:
     def stance(self, t: float) -> dict[Side, Footstep]:
         """Last landed pose of both feet at ``t`` (the swing foot: its lift pose)."""
         return dict(self._stances[self._stance_index(t)])
+
+
+__all__ = ["MAX_POLYGON_EDGES", "ContactSchedule", "Phase"]

@@ -33,8 +33,9 @@ import numpy as np
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.models.flywheel import FlywheelLimits
 from mpcwalk.models.lipm import LIPM
+from mpcwalk.qp.cost_factor import inverse_cholesky
 from mpcwalk.qp.footstep_parameters import FootstepMpcParameters
-from mpcwalk.qp.footstep_qp import FootstepQP, inverse_cholesky
+from mpcwalk.qp.footstep_qp import FootstepQP
 from mpcwalk.qp.footstep_supports import SampleSupports, StepVariables
 from mpcwalk.qp.program import Prediction
 

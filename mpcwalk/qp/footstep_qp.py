@@ -23,31 +23,16 @@ prediction products: the footstep columns change with the samples anyway.
 
 import numpy as np
 import qpsolvers
-from scipy.linalg import lapack
 
 from mpcwalk.exceptions import ConfigurationError, NotReset
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.lipm import LIPM
+from mpcwalk.qp.cost_factor import bordered_inverse_factor, inverse_cholesky
 from mpcwalk.qp.footstep_bounds import band_rows, box_rows
 from mpcwalk.qp.footstep_parameters import FootstepMpcParameters
+from mpcwalk.qp.footstep_prediction import horizon_predictions
 from mpcwalk.qp.footstep_supports import SampleSupports, StepVariables
 from mpcwalk.qp.program import Prediction
-
-
-def inverse_cholesky(matrix: np.ndarray) -> np.ndarray:
-    """``R^-1`` of the upper triangular Cholesky factor ``R`` of a symmetric positive
-    definite ``matrix`` (``matrix = R^T R``).
-
-    Raises:
-        numpy.linalg.LinAlgError: ``matrix`` is not positive definite.
-    """
-    factor, info = lapack.dpotrf(matrix, lower=0)
-    if info != 0:
-        raise np.linalg.LinAlgError(f"The matrix is not positive definite (dpotrf info {info}).")
-    inverse, info = lapack.dtrtri(factor, lower=0)
-    if info != 0:  # pragma: no cover - a positive definite factor is invertible
-        raise np.linalg.LinAlgError(f"The Cholesky factor is singular (dtrtri info {info}).")
-    return np.triu(inverse)
 
 
 class FootstepQP:
@@ -129,55 +114,7 @@ class FootstepQP:
         pred = self._predictions.get(key)
         if pred is not None:
             return pred
-        N, p = self.N, self.parameters
-        A1, B1 = CartTable.transition(first)
-        A, B = self.model.A, self.model.B
-        Xs, Xu = np.zeros((N, 3, 3)), np.zeros((N, 3, N))
-        Xs[0], Xu[0, :, 0] = A1, B1
-        for i in range(1, N):
-            Xs[i] = A @ Xs[i - 1]
-            Xu[i] = A @ Xu[i - 1]
-            Xu[i, :, i] = B
-        C = self.model.C
-        pred = {
-            "Pps": Xs[:, 0],
-            "Ppu": Xu[:, 0],
-            "Pvs": Xs[:, 1],
-            "Pvu": Xu[:, 1],
-            "Pas": Xs[:, 2],
-            "Pau": Xu[:, 2],
-            "Pzs": np.einsum("k,nkj->nj", C, Xs),
-            "Pzu": np.einsum("k,nkj->nj", C, Xu),
-        }
-        # ZMP at the constraint points: from the state at the start of each interval.
-        P = p.constraint_points
-        # (states at the constraint points, then C of them: position and acceleration kept
-        # for a time-varying ZMP row, see :meth:`_with_heights`)
-        Ss, Su = np.zeros((N, P, 3, 3)), np.zeros((N, P, 3, N))
-        for i in range(N):
-            length = first if i == 0 else p.sampling_period
-            start_s = np.eye(3) if i == 0 else Xs[i - 1]
-            start_u = np.zeros((3, N)) if i == 0 else Xu[i - 1]
-            for j in range(P):
-                Aj, Bj = CartTable.transition(length * (j + 1) / P)
-                Ss[i, j] = Aj @ start_s
-                Su[i, j] = Aj @ start_u
-                Su[i, j, :, i] += Bj
-        pred["Czs"] = np.einsum("k,npkj->npj", C, Ss).reshape(N * P, 3)
-        pred["Czu"] = np.einsum("k,npkj->npj", C, Su).reshape(N * P, N)
-        for name, row in (("Cp", 0), ("Ca", 2)):
-            pred[name + "s"] = Ss[:, :, row].reshape(N * P, 3)
-            pred[name + "u"] = Su[:, :, row].reshape(N * P, N)
-        H = (
-            p.zmp_weight * pred["Pzu"].T @ pred["Pzu"]
-            + p.velocity_weight * pred["Pvu"].T @ pred["Pvu"]
-            + p.jerk_weight * np.eye(N)
-        )
-        pred["H_jerk"] = 0.5 * (H + H.T)
-        # DCM at the last sample, xi = c + c_dot / omega
-        omega = self.lipm.omega
-        pred["Pds"] = pred["Pps"][-1] + pred["Pvs"][-1] / omega
-        pred["Pdu"] = pred["Ppu"][-1] + pred["Pvu"][-1] / omega
+        pred = horizon_predictions(self.model, self.parameters, self.lipm.omega, first)
         self._predictions[key] = pred
         return pred
 
@@ -366,19 +303,13 @@ class FootstepQP:
             numpy.linalg.LinAlgError: The footsteps' block is not positive definite.
         """
         self.require_update()
-        N, nf, H = self.N, self.nf, self._H
+        N, nf = self.N, self.nf
         inverse_11 = self._pred.get("H_jerk_inverse_factor")
         if inverse_11 is None:
             inverse_11 = self._pred["H_jerk_inverse_factor"] = inverse_cholesky(
                 self._pred["H_jerk"]
             )
-        R_12 = inverse_11.T @ H[:N, N:]
-        inverse_22 = inverse_cholesky(H[N:, N:] - R_12.T @ R_12)
-        block = np.zeros((N + nf, N + nf))
-        block[:N, :N] = inverse_11
-        block[:N, N:] = -(inverse_11 @ R_12) @ inverse_22
-        block[N:, N:] = inverse_22
-        block /= np.sqrt(self.cost_scale)
+        block = bordered_inverse_factor(inverse_11, self._H) / np.sqrt(self.cost_scale)
         inverse = np.zeros((self.n, self.n))
         inverse[: N + nf, : N + nf] = block
         inverse[N + nf : 2 * (N + nf), N + nf : 2 * (N + nf)] = block

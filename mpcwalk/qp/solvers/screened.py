@@ -26,7 +26,7 @@ import numpy as np
 import quadprog
 
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.qp.footstep_qp import inverse_cholesky
+from mpcwalk.qp.cost_factor import inverse_cholesky
 from mpcwalk.qp.program import QuadraticProgram
 from mpcwalk.qp.result import QPResult
 from mpcwalk.qp.solvers.base import QPSolver, failure
