@@ -11,6 +11,7 @@ from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import FootGeometry, Footstep, FootstepPlan, Side
 from mpcwalk.footsteps.rotations import quaternion_rpy, rpy_quaternion, tilt_in_heading
 from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.gait.support_polygons import pose_key
 
 rng = np.random.default_rng(7)
 POSES = [
@@ -120,9 +121,9 @@ def test_schedule_polygons_are_the_horizontal_projection_of_tilted_soles():
     assert extent == pytest.approx([0.2 * math.cos(math.radians(30.0)), 0.1], abs=1e-15)
     # the flat landing at the same (x, y, yaw) is not served the tilted polygon from the cache
     np.testing.assert_allclose(np.ptp(flat._rects[1][Side.RIGHT].vertices, axis=0), [0.2, 0.1])
-    assert flat._pose_key(flat_step) != tilted._pose_key(pitched)
+    assert pose_key(flat_step) != pose_key(pitched)
     final = flat.phases[-1].polygon.vertices
     assert np.ptp(final[:, 0]) == pytest.approx(0.3 + 0.2, abs=1e-15)
     assert np.ptp(tilted.phases[-1].polygon.vertices[:, 0]) < 0.3 + 0.2 - 0.01
     # the height does not change the polygon: the same key
-    assert tilted._pose_key(pitched) == tilted._pose_key(pitched.moved(position=[0.3, -0.1, 0.0]))
+    assert pose_key(pitched) == pose_key(pitched.moved(position=[0.3, -0.1, 0.0]))
