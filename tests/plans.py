@@ -65,3 +65,22 @@ def velocity_schedule(velocity, nb_steps=20, *, step_duration=0.5, r_ds=0.2, hal
         half_width=half_width,
         turn_first=True,
     )
+
+
+def kicked_walk(name, schedule, kick=(0.0, 0.0), at=1.5, **options):
+    """The generator ``name`` on the small humanoid's LIPM over ``schedule``, its CoM
+    velocity kicked by ``kick`` [m/s] at ``at`` [s]: the generator and its outputs."""
+    from mpcwalk import LIPM, make_generator
+    from mpcwalk.models.com_state import ComState
+
+    generator = make_generator(name, lipm=LIPM(com_height=0.23), control_period=0.01, **options)
+    outputs = [generator.reset(schedule)]
+    while not generator.done:
+        measured = None
+        if abs(generator.time - at) < 1e-6:
+            state = outputs[-1].state
+            measured = ComState(
+                state.position, state.velocity + np.asarray(kick), state.acceleration
+            )
+        outputs.append(generator.step(measured))
+    return generator, outputs

@@ -3,11 +3,11 @@ when the ZMP would leave the support, within the upper body's limits."""
 
 import numpy as np
 import pytest
+from plans import kicked_walk
 
 from mpcwalk import LIPM, ContactSchedule, VelocityCommand, VelocityPlanner, make_generator
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.gait.support_margins import support_margins
-from mpcwalk.models.com_state import ComState
 from mpcwalk.models.flywheel import FlywheelLimits
 
 LIMITS = FlywheelLimits.small_humanoid()
@@ -20,17 +20,7 @@ def _schedule(nb_steps=6):
 
 def _walk(name="mpc-hip", kick=(0.0, 0.0), at=1.5, **options):
     """The outputs of a walk on the LIPM whose CoM velocity is kicked at ``at`` [s]."""
-    generator = make_generator(name, lipm=LIPM(com_height=0.23), control_period=0.01, **options)
-    outputs = [generator.reset(_schedule())]
-    while not generator.done:
-        measured = None
-        if abs(generator.time - at) < 1e-6:
-            state = outputs[-1].state
-            measured = ComState(
-                state.position, state.velocity + np.asarray(kick), state.acceleration
-            )
-        outputs.append(generator.step(measured))
-    return generator, outputs
+    return kicked_walk(name, _schedule(), kick, at, **options)
 
 
 def test_without_torque_it_is_the_footstep_mpc():

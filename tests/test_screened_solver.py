@@ -4,10 +4,10 @@ added until none is violated, the whole QP's optimum; and the footstep QPs' cost
 import numpy as np
 import pytest
 import quadprog
+from plans import kicked_walk
 
-from mpcwalk import LIPM, ContactSchedule, VelocityCommand, VelocityPlanner, make_generator
+from mpcwalk import ContactSchedule, VelocityCommand, VelocityPlanner
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.models.com_state import ComState
 from mpcwalk.qp.solvers import make_solver
 from mpcwalk.qp.solvers.screened import FIRST_ROWS, ScreenedSolver
 
@@ -90,17 +90,7 @@ def test_what_it_refuses_is_named():
 def _walk(name, solver, kick=(0.35, 0.0), at=1.4):
     plan = VelocityPlanner().plan(VelocityCommand(vx=0.1, vy=0.0, vyaw=0.2), nb_steps=6)
     options = {} if solver is None else {"solver": solver}
-    generator = make_generator(name, lipm=LIPM(com_height=0.23), control_period=0.01, **options)
-    outputs = [generator.reset(ContactSchedule(plan))]
-    while not generator.done:
-        measured = None
-        if abs(generator.time - at) < 1e-6:
-            state = outputs[-1].state
-            measured = ComState(
-                state.position, state.velocity + np.asarray(kick), state.acceleration
-            )
-        outputs.append(generator.step(measured))
-    return generator, outputs
+    return kicked_walk(name, ContactSchedule(plan), kick, at, **options)
 
 
 @pytest.mark.parametrize("name, kick", [("mpc-steps", (0.2, 0.1)), ("mpc-hip", (0.35, 0.0))])
