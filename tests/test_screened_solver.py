@@ -8,6 +8,7 @@ from plans import kicked_walk
 
 from mpcwalk import ContactSchedule, VelocityCommand, VelocityPlanner
 from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.ik.dynamics_program import check_dynamics_solver
 from mpcwalk.qp.solvers import make_solver
 from mpcwalk.qp.solvers.screened import FIRST_ROWS, ScreenedSolver
 
@@ -85,6 +86,9 @@ def test_what_it_refuses_is_named():
     qp.formulation = "sparse"
     with pytest.raises(ConfigurationError, match="dense QPs"):
         ScreenedSolver().solve(qp)
+    # the inverse dynamics' QP has equality rows: not among its back-ends
+    with pytest.raises(ConfigurationError, match="equality and inequality"):
+        check_dynamics_solver("quadprog-screened")
 
 
 def _walk(name, solver, kick=(0.35, 0.0), at=1.4):

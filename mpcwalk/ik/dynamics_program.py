@@ -23,6 +23,9 @@ from mpcwalk.qp.solvers.registry import solver_names
 #: Back-ends of the registry that cannot take the inverse dynamics' QP (``kkt``: no
 #: inequality rows).
 NO_INEQUALITIES = frozenset({"kkt"})
+#: Back-ends of the registry that take inequality rows only (``quadprog-screened``, for the
+#: footstep-adaptive MPCs), not the inverse dynamics' equalities.
+INEQUALITIES_ONLY = frozenset({"quadprog-screened"})
 #: The back-end of the inverse dynamics unless one is chosen.
 DEFAULT_DYNAMICS_SOLVER = "daqp-direct"
 
@@ -30,7 +33,7 @@ DEFAULT_DYNAMICS_SOLVER = "daqp-direct"
 def dynamics_solver_names() -> list[str]:
     """Back-ends of :data:`~mpcwalk.qp.solvers.registry.SOLVERS` installed here that take
     the inverse dynamics' QP (equality and inequality rows), in the registry's order."""
-    return [name for name in solver_names() if name not in NO_INEQUALITIES]
+    return [name for name in solver_names() if name not in NO_INEQUALITIES | INEQUALITIES_ONLY]
 
 
 def check_dynamics_solver(name: object) -> str:
