@@ -70,11 +70,14 @@ class HeightProfile:
             )
         self.com_height = float(com_height)
         self.lean = float(lean)
-        heights = [[float(f.position[2]) for f in phase.feet.values()] for phase in schedule.phases]
-        flat = {h for hs in heights for h in hs}
-        self.is_level = len(flat) == 1
+        plan = schedule.plan  # the phases' feet are the plan's footsteps
+        feet = (plan.initial_left, plan.initial_right, *plan.steps)
+        self.is_level = len({float(f.position[2]) for f in feet}) == 1
         """Whether every sole of the schedule is at the same height (the constant LIPM)."""
-        self.level = heights[0][0] if self.is_level else float("nan")
+        self.level = float(plan.initial_left.position[2]) if self.is_level else float("nan")
+        if self.is_level:  # the constant LIPM: no knots
+            return
+        heights = [[float(f.position[2]) for f in phase.feet.values()] for phase in schedule.phases]
         # Ground reference: knots at the middle of each single support and of each run of
         # double supports.
         groups: list[tuple[float, float, bool, list[float], float]] = []

@@ -195,14 +195,14 @@ class FootstepSlots:
 
     def _tabulate(self, schedule: ContactSchedule) -> None:
         """Half-planes of the schedule's phases, padded, with a mask of the real rows."""
-        E = MAX_POLYGON_EDGES
-        nph = len(schedule.phases)
-        self._phase_A, self._phase_b = np.zeros((nph, E, 2)), np.zeros((nph, E))
-        self._phase_rows = np.zeros((nph, E), bool)
-        for i, phase in enumerate(schedule.phases):
-            k = len(phase.polygon.b)
-            self._phase_A[i, :k], self._phase_b[i, :k] = phase.polygon.A, phase.polygon.b
-            self._phase_rows[i, :k] = True
+        phases = schedule.phases
+        edges = np.fromiter((len(phase.polygon.b) for phase in phases), int, len(phases))
+        # the schedule's padded half-planes, the padding rows zero and masked out
+        rows = np.arange(MAX_POLYGON_EDGES)[None, :] < edges[:, None]
+        A, b = schedule.phase_halfplanes
+        self._phase_A = np.where(rows[..., None], A, 0.0)
+        self._phase_b = np.where(rows, b, 0.0)
+        self._phase_rows = rows
 
     def free_steps(
         self, t: float, last_sample: float, freeze_before_landing: float
