@@ -169,3 +169,31 @@ def test_a_terrain_that_does_not_fit_is_refused_with_its_limit():
     with pytest.raises(TerrainError, match="needs a stride of"):
         check_terrain(Terrain([SteppingStones(0.5, count=3, length=0.15, gap=0.1)]), reach)
     check_terrain(Terrain([Platform(0.5, length=0.3, height=0.05)]), reach)
+
+
+def test_a_sole_straddles_a_gentle_ramp_s_foot_and_brow():
+    """Over a 4 deg ramp's foot (a hollow) the sole rests on both tops, on the chord from
+    its heel to its toe; over its brow (a crest) on the top under its centre. Its margin
+    counts the two tops as one; a kink beyond ``max_kink`` is not straddled."""
+    terrain = Terrain([Slope(0.5, 1.0, 4.0)])
+    kink, rise = math.radians(5.0), math.tan(math.radians(4.0))
+    floor, ramp, top = 0, 1, 2
+    assert terrain.joined(floor, ramp, kink) and terrain.joined(ramp, top, kink)
+    assert not terrain.joined(floor, ramp, math.radians(3.0))
+    assert not terrain.joined(floor, top, kink)  # not end to end
+    on_ramp = terrain.sole_support((1.0, 0.0), 0.0, 0.2, 0.1)
+    hollow = terrain.sole_support((0.5, 0.0), 0.0, 0.2, 0.1, max_kink=kink)
+    # heel at 0.4 on the floor, toe at 0.6 on the ramp 0.1 tan(4 deg) up: the chord
+    assert hollow.height == pytest.approx(0.5 * 0.1 * rise, abs=1e-12)
+    chord = math.atan(0.1 * rise / 0.2)
+    assert hollow.pitch == pytest.approx(chord * on_ramp.pitch / math.radians(4.0), abs=1e-12)
+    assert hollow.margin > 0.04  # the two tops as one: 0.05 m to the sides
+    assert terrain.sole_support((0.5, 0.0), 0.0, 0.2, 0.1).margin < 0.0
+    height = 1.0 * rise
+    before = terrain.sole_support((1.45, 0.0), 0.0, 0.2, 0.1, max_kink=kink)
+    assert before.height == pytest.approx(height - 0.05 * rise, abs=1e-12)
+    assert before.pitch == pytest.approx(on_ramp.pitch, abs=1e-12)  # on the ramp
+    after = terrain.sole_support((1.55, 0.0), 0.0, 0.2, 0.1, max_kink=kink)
+    assert after.height == pytest.approx(height, abs=1e-12) and after.pitch == 0.0  # on the top
+    steep = Terrain([Slope(0.5, 1.0, 8.0)])
+    assert steep.sole_support((0.5, 0.0), 0.0, 0.2, 0.1, max_kink=kink).margin < 0.0

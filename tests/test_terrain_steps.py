@@ -1,6 +1,7 @@
 """Footsteps placed on a terrain: whole soles on tops with margins, within the legs' reach,
 one or two feet per tread, stones only, the highest block of a rough patch."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -233,3 +234,34 @@ def test_beyond_the_laid_ground_the_floor_holds_the_soles():
     assert plan.steps[-1].xy[0] > terrain.length
     assert max(s.position[2] for s in plan.steps) == pytest.approx(0.05)
     assert all(s.position[2] == 0.0 for s in plan.steps if s.xy[0] > 1.0)
+
+
+def test_a_gentle_ramp_s_foot_and_brow_ask_no_long_stride():
+    """On a 3 deg ramp the soles straddle its foot and its brow, resting on the ground's
+    upper hull: no stride is longer than the flat walk's. Without the straddle
+    (``max_kink_deg=0``) a sole must land wholly on one side, and the ramp's foot asks a
+    stride of a sole length and two margins."""
+    ramp = Terrain([Slope(0.5, 1.0, 3.0)])
+    flat = small_plan(FLAT, nb_steps=40)
+    longest_flat = max(stride_ahead(flat, k) for k in range(flat.nb_steps))
+    plan = small_plan(ramp, nb_steps=40)
+    strides = [stride_ahead(plan, k) for k in range(plan.nb_steps)]
+    assert max(strides) <= longest_flat + 1e-9
+    # the straddling landings: on the chord or the brow, never below the ground
+    kinks = (0.5, 1.5)
+    straddling = 0
+    for step in plan.steps:
+        half = 0.5 * SMALL_REACH.sole_length
+        heel, toe = step.xy[0] - half, step.xy[0] + half
+        if not any(heel < kink < toe for kink in kinks):
+            continue
+        straddling += 1
+        slope = -math.tan(step.pitch) if step.pitch else 0.0  # the sole's rise along x
+        for x in np.linspace(heel, toe, 21):
+            sole = step.position[2] + slope * (x - step.xy[0])
+            assert sole >= ramp.height(x, step.xy[1]) - 1e-9
+    assert straddling >= 2
+    whole = dataclasses.replace(SMALL_REACH, max_kink_deg=0.0)
+    plan = small_plan(ramp, reach=whole, nb_steps=40)
+    longest = max(stride_ahead(plan, k) for k in range(plan.nb_steps))
+    assert longest >= SMALL_REACH.sole_length + 2 * SMALL_REACH.tread_margin - 1e-9

@@ -168,6 +168,7 @@ class TerrainStepPlacer:
             self.reach.sole_length + room,
             self.reach.sole_width,
             self.tops.samples,
+            self.reach.max_kink,
         ).margin
 
     def _choose(

@@ -5,7 +5,9 @@ A place *holds* the sole when the whole sole lies on one top with at least the r
 tread margin from that top's edges (:meth:`~mpcwalk.terrain.Terrain.sole_support`'s
 margin), on ground that is that top's plane everywhere under the sole and its margins (no
 gap between two stones of the same height under it), neither in a pit nor on a slope
-steeper than the soles stand on. On a rough patch the sole rests on the highest block under
+steeper than the soles stand on; or when the sole and its margins lie over two tops it
+stands on that meet without a step at an angle the reach's ``max_kink_deg`` straddles (a
+ramp's foot or brow), where it rests on the ground's upper hull. On a rough patch the sole rests on the highest block under
 it: every place there holds, and the ones wholly on one block are preferred
 (:attr:`Place.wholly`). Beyond the laid ground, the floor (at
 :attr:`~mpcwalk.terrain.Terrain.floor`) holds the sole where it is level under it.
@@ -114,7 +116,12 @@ class TerrainTops:
     def support(self, center, yaw: float) -> SoleSupport:
         """Where a sole centred at ``center`` (x, y) [m] with heading ``yaw`` [rad] rests."""
         return self.terrain.sole_support(
-            center, yaw, self.reach.sole_length, self.reach.sole_width, self.samples
+            center,
+            yaw,
+            self.reach.sole_length,
+            self.reach.sole_width,
+            self.samples,
+            self.reach.max_kink,
         )
 
     def places(self, centers: np.ndarray, yaw: float, offsets, strides) -> list[Place]:
@@ -162,6 +169,12 @@ class TerrainTops:
                     continue
             surface = self.terrain.surface_index(center[0], center[1])
             holds = bool(planar[i]) and (surface < 0 or self._stands_on(surface))
+            if not planar[i] and self._straddles(x[i], y[i]):
+                # over the joint of two tops it may straddle: it rests on both
+                top = self.top(surface)
+                height = self.support(center, yaw).height
+                out.append(Place(offsets[i], tuple(center), strides[i], height, top, True, True))
+                continue
             if (
                 holds
                 and surface >= 0
@@ -173,6 +186,18 @@ class TerrainTops:
             place = Place(offsets[i], tuple(center), strides[i], level[i], top, holds, holds)
             out.append(place)
         return out
+
+    def _straddles(self, x: np.ndarray, y: np.ndarray) -> bool:
+        """Whether the points of a grown sole lie over exactly two tops it may stand on,
+        :meth:`~mpcwalk.terrain.Terrain.joined` within the reach's kink."""
+        tops = np.unique(self.terrain.surface_indices(x, y))
+        return (
+            len(tops) == 2
+            and tops[0] >= 0
+            and self.reach.max_kink > 0.0
+            and self.terrain.joined(int(tops[0]), int(tops[1]), self.reach.max_kink)
+            and all(self._stands_on(int(top)) for top in tops)
+        )
 
     def _stands_on(self, surface: int) -> bool:
         """Whether a sole may stand on surface ``surface`` (not a pit, not too steep)."""

@@ -21,6 +21,13 @@ MAX_SWING_RISE_RATIO = 0.25
 MAX_STRIDE_RATIO = 0.8
 #: Steepest slope [deg] a flat sole stands on (with the friction of the scene, 1.0).
 MAX_WALKABLE_SLOPE_DEG = 20.0
+#: Largest angle [deg] between two tops meeting without a step (a ramp's foot or brow) that a
+#: sole may straddle. The sole then rests on the ground's upper hull under it: on both tops
+#: at a hollow, on the brow and one top at a crest, at most the sole's half length times the
+#: angle's tangent (9 mm for a 0.2 m sole) off the other top. Without it a sole must land
+#: wholly on one side, so every ramp's foot and brow asks a stride of a sole length and two
+#: margins, longer than a small humanoid's or g1's longest flat step.
+MAX_STRADDLED_KINK_DEG = 5.0
 
 
 @dataclass(frozen=True)
@@ -35,6 +42,8 @@ class TerrainReach:
         tread_margin: Distance [m] a sole keeps from a tread's edges (default: a tenth of
             its length).
         max_slope_deg: Steepest slope [deg].
+        max_kink_deg: Largest angle [deg] between two tops meeting without a step that a
+            sole may straddle (:data:`MAX_STRADDLED_KINK_DEG`; 0: none).
     """
 
     sole_length: float
@@ -43,6 +52,7 @@ class TerrainReach:
     max_stride: float
     tread_margin: float | None = None
     max_slope_deg: float = MAX_WALKABLE_SLOPE_DEG
+    max_kink_deg: float = MAX_STRADDLED_KINK_DEG
 
     def __post_init__(self) -> None:
         for name in ("sole_length", "sole_width", "leg_length", "max_stride"):
@@ -57,6 +67,15 @@ class TerrainReach:
             object.__setattr__(self, name, value)
         if self.tread_margin is None:
             object.__setattr__(self, "tread_margin", 0.1 * self.sole_length)
+        kink = checked_number(
+            "TerrainReach.max_kink_deg", self.max_kink_deg, low=0.0, unit="deg", error=TerrainError
+        )
+        object.__setattr__(self, "max_kink_deg", kink)
+
+    @property
+    def max_kink(self) -> float:
+        """:attr:`max_kink_deg` in [rad]."""
+        return math.radians(self.max_kink_deg)
 
     @classmethod
     def for_leg(cls, sole_length: float, sole_width: float, leg_length: float) -> "TerrainReach":
@@ -153,6 +172,7 @@ def check_terrain(terrain: Terrain, reach: TerrainReach, robot: str = "the robot
 
 __all__ = [
     "MAX_RISE_RATIO",
+    "MAX_STRADDLED_KINK_DEG",
     "MAX_STRIDE_RATIO",
     "MAX_SWING_RISE_RATIO",
     "TerrainReach",

@@ -12,7 +12,7 @@ builds, down to the terrain's :attr:`Terrain.floor`.
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -46,6 +46,10 @@ class SoleSupport:
     pitch: float
     surface: int
     margin: float
+
+
+def _x_min(surface: Surface) -> float:
+    return surface.x_min
 
 
 class Terrain:
@@ -152,13 +156,43 @@ class Terrain:
         index = self.surface_index(x, y)
         return self.surfaces[index].normal if index >= 0 else np.array([0.0, 0.0, 1.0])
 
+    def surface_indices(self, x, y) -> np.ndarray:
+        """Index in :attr:`surfaces` of the top under each point (-1: off the terrain), the
+        shape of ``x`` (vectorised :meth:`surface_index`)."""
+        xs, ys = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+        return self._heights(xs.ravel(), ys.ravel())[1].reshape(xs.shape)
+
+    def joined(self, first: int, second: int, max_kink: float) -> bool:
+        """Whether surfaces ``first`` and ``second`` meet end to end along x, as wide and
+        without a step, at an angle of at most ``max_kink`` [rad] (a sole may straddle
+        their joint, :data:`~mpcwalk.terrain.fit.MAX_STRADDLED_KINK_DEG`)."""
+        if not (0 <= first < len(self.surfaces) and 0 <= second < len(self.surfaces)):
+            return False
+        behind, ahead = sorted((self.surfaces[first], self.surfaces[second]), key=_x_min)
+        return (
+            first != second
+            and abs(ahead.x_min - behind.x_max) <= 1e-9
+            and abs(ahead.height - behind.end_height) <= 1e-9
+            and (ahead.y_min, ahead.y_max) == (behind.y_min, behind.y_max)
+            and abs(ahead.slope - behind.slope) <= max_kink + 1e-12
+        )
+
     def sole_support(
-        self, center, yaw: float, length: float, width: float, samples: int = 5
+        self,
+        center,
+        yaw: float,
+        length: float,
+        width: float,
+        samples: int = 5,
+        max_kink: float = 0.0,
     ) -> SoleSupport:
         """Where a sole of ``length`` x ``width`` [m], centred over ``center`` (x, y) [m] at
         heading ``yaw`` [rad], rests: on the highest top under it (sampled on a grid of
         ``samples`` x ``samples`` points), at its plane's height under the centre and tilted
-        as that plane."""
+        as that plane. Over the joint of that top and a neighbour :meth:`joined` to it
+        within ``max_kink`` [rad], it rests on the ground's upper hull under it (both tops
+        at a hollow, the brow and the top under its centre at a crest), and its margin counts
+        the two tops as one."""
         c, s = math.cos(yaw), math.sin(yaw)
         u = np.linspace(-0.5, 0.5, samples)
         du, dv = np.meshgrid(u * length, u * width)
@@ -180,15 +214,56 @@ class Terrain:
             + s * 0.5 * length * np.array([1, 1, -1, -1])
             + c * 0.5 * width * np.array([1, -1, 1, -1])
         )
-        margin = float(self._coplanar_margin(best, corners_x, corners_y))
+        margin = float(self._coplanar_margin(best, corners_x, corners_y, max_kink))
         height = float(surface.height_at(center[0]))
+        rest = self._straddled_rest(best, float(center[0]), corners_x, max_kink)
+        if rest is not None:
+            height, normal = rest
+            roll, pitch = sole_tilt(normal, yaw)
         return SoleSupport(height, roll, pitch, best, margin)
 
-    def _coplanar_margin(self, index: int, x: np.ndarray, y: np.ndarray) -> float:
+    def _straddled_rest(
+        self, index: int, x: float, corners_x: np.ndarray, max_kink: float
+    ) -> tuple[float, np.ndarray] | None:
+        """Height [m] at ``x`` and normal of a sole whose corners span ``corners_x`` [m]
+        over the joint of surface ``index`` and a neighbour :meth:`joined` to it: the
+        segment of the ground's upper hull (heel, joint, toe along x) under the centre.
+        None when the sole lies over one top."""
+        low, high = float(corners_x.min()), float(corners_x.max())
+        for other in (index - 1, index + 1):
+            if not self.joined(index, other, max_kink):
+                continue
+            behind, ahead = sorted((self.surfaces[index], self.surfaces[other]), key=_x_min)
+            joint = behind.x_max
+            if not low < joint < high:
+                continue
+            z_low, z_joint = float(behind.height_at(low)), float(behind.height_at(joint))
+            z_high = float(ahead.height_at(high))
+            chord = (z_high - z_low) / (high - low)
+            if z_joint <= z_low + chord * (joint - low) + 1e-12:  # a hollow: on both tops
+                rise, height = chord, z_low + chord * (x - low)
+            else:  # a crest: on the brow and the top under the centre
+                top = behind if x <= joint else ahead
+                rise, height = math.tan(top.slope), float(top.height_at(x))
+            angle = math.atan(rise)
+            return height, np.array([-math.sin(angle), 0.0, math.cos(angle)])
+        return None
+
+    def _coplanar_margin(
+        self, index: int, x: np.ndarray, y: np.ndarray, max_kink: float = 0.0
+    ) -> float:
         """Smallest distance of the points to the edges of surface ``index``, counting as
-        one surface the neighbours in its plane (a tread continued by a landing)."""
+        one surface the neighbours in its plane (a tread continued by a landing) and, with
+        ``max_kink`` [rad], the neighbours :meth:`joined` to it."""
         surface = self.surfaces[index]
-        distances = surface.inner_distance(x, y)
+        # the neighbours joined within the kink extend its footprint along x (one box: a
+        # point on the joint lies inside it, not on two edges)
+        x_min, x_max = surface.x_min, surface.x_max
+        for neighbour in (index - 1, index + 1):
+            if max_kink > 0.0 and self.joined(index, neighbour, max_kink):
+                x_min = min(x_min, self.surfaces[neighbour].x_min)
+                x_max = max(x_max, self.surfaces[neighbour].x_max)
+        distances = replace(surface, x_min=x_min, x_max=x_max).inner_distance(x, y)
         for other in self.surfaces:
             if other is surface or other.slope != surface.slope:
                 continue
