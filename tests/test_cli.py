@@ -104,11 +104,11 @@ def test_tick_benchmark_reduced_run():
         "mpc casadi",
         "mpc daqp",
         "mpc-steps daqp",
-        "mpc-steps quadprog-screened (default)",
-        "mpc-steps quadprog",
-        "mpc-timing quadprog-screened",
-        "mpc-hip quadprog-screened",
+        "mpc-steps quadprog (default)",
+        "mpc-steps quadprog-screened",
+        "mpc-timing quadprog",
         "mpc-hip quadprog",
+        "mpc-hip quadprog-screened",
         "qpmpc daqp (peer)",
     } <= set(labels)
     for r in results:

@@ -99,11 +99,11 @@ def _walk(name, solver, kick=(0.35, 0.0), at=1.4):
 
 @pytest.mark.parametrize("name, kick", [("mpc-steps", (0.2, 0.1)), ("mpc-hip", (0.35, 0.0))])
 def test_the_footstep_mpcs_plan_as_with_quadprog_on_every_row(name, kick):
-    """The default back-end of the footstep-adaptive MPCs gives quadprog's plans, pushed
-    (the footsteps move, the flywheel leans) as undisturbed."""
-    generator, screened = _walk(name, None, kick)
+    """The screened back-end gives quadprog's plans (the footstep-adaptive MPCs' default),
+    pushed (the footsteps move, the flywheel leans) as undisturbed."""
+    generator, screened = _walk(name, "quadprog-screened", kick)
     assert generator.solver_name == "quadprog-screened"
-    _, full = _walk(name, "quadprog", kick)
+    _, full = _walk(name, None, kick)
     for a, b in zip(screened, full):
         np.testing.assert_allclose(a.com, b.com, atol=1e-9)
         np.testing.assert_allclose(a.zmp, b.zmp, atol=1e-9)
@@ -117,7 +117,7 @@ def test_the_footstep_mpcs_plan_as_with_quadprog_on_every_row(name, kick):
 def test_the_cost_factor_is_the_cost_matrix_s(name):
     """``cost_factor()``: ``R^-1`` upper triangular with ``R^T R = P[order][:, order]``, the
     blocks factorised once per first interval."""
-    generator, _ = _walk(name, None, kick=(0.0, 0.0))
+    generator, _ = _walk(name, "quadprog-screened", kick=(0.0, 0.0))
     qp = generator.qp
     order, inverse = qp.cost_factor()
     assert sorted(order) == list(range(qp.n))

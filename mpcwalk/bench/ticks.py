@@ -73,27 +73,26 @@ def _cases(solvers: Sequence[str] | None, include_peer: bool):
     for name in wanted:
         if name in available_solvers:
             cases.append((f"mpc {name}", "mpc", name, {"solver": name}))
-    # footstep-adaptive MPC: dense QP rebuilt every tick; its default back-end, then quadprog
-    # on every row and DAQP through qpsolvers
-    steps_default = "quadprog-screened"
+    # footstep-adaptive MPC: dense QP rebuilt every tick; quadprog (its default), on the rows
+    # near binding, and DAQP through qpsolvers
     if "quadprog" in available_solvers:
-        label = f"mpc-steps {steps_default} (default)"
-        cases.append((label, "mpc-steps", steps_default, {"solver": steps_default}))
-    for name in ("quadprog", "daqp"):
-        if name in available_solvers:
-            cases.append((f"mpc-steps {name}", "mpc-steps", name, {"solver": name}))
+        cases.append(
+            ("mpc-steps quadprog (default)", "mpc-steps", "quadprog", {"solver": "quadprog"})
+        )
+        screened = {"solver": "quadprog-screened"}
+        cases.append(("mpc-steps quadprog-screened", "mpc-steps", "quadprog-screened", screened))
+    if "daqp" in available_solvers:
+        cases.append(("mpc-steps daqp", "mpc-steps", "daqp", {"solver": "daqp"}))
     if "quadprog" in available_solvers:  # the same with step timing and capturability
-        timing = {"solver": steps_default, "timing_adaptation": True, "capturability": True}
-        cases.append((f"mpc-timing {steps_default}", "mpc-steps", steps_default, timing))
-        late = {"solver": steps_default, "late_adjustment": True}
-        cases.append((f"mpc-late {steps_default}", "mpc-steps", steps_default, late))
-        nlp = {"solver": steps_default, "capturability": True}  # + the CasADi program (IPOPT)
-        label = f"mpc-timing-nlp {steps_default}+ipopt"
-        cases.append((label, "mpc-nlp", steps_default, nlp))
-        # with the flywheel: its default back-end, and quadprog on every row
-        cases.append((f"mpc-hip {steps_default}", "mpc-hip", steps_default, timing))
-        hip = {**timing, "solver": "quadprog"}
-        cases.append(("mpc-hip quadprog", "mpc-hip", "quadprog", hip))
+        timing = {"solver": "quadprog", "timing_adaptation": True, "capturability": True}
+        cases.append(("mpc-timing quadprog", "mpc-steps", "quadprog", timing))
+        late = {"solver": "quadprog", "late_adjustment": True}
+        cases.append(("mpc-late quadprog", "mpc-steps", "quadprog", late))
+        nlp = {"solver": "quadprog", "capturability": True}  # + the CasADi program (IPOPT)
+        cases.append(("mpc-timing-nlp quadprog+ipopt", "mpc-nlp", "quadprog", nlp))
+        cases.append(("mpc-hip quadprog", "mpc-hip", "quadprog", timing))  # with the flywheel
+        hip = {**timing, "solver": "quadprog-screened"}
+        cases.append(("mpc-hip quadprog-screened", "mpc-hip", "quadprog-screened", hip))
     cases.append(
         (
             "static-qp osqp-direct (slow timing)",

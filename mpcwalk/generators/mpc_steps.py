@@ -78,14 +78,17 @@ class FootstepMpcGenerator(StepTimingAdaptation):
         landing_bands: Where each landing of the plan may move, one box per step (world x,
             y; :func:`~mpcwalk.footsteps.landing_bands.tread_bands`: on its tread, off the
             edges), bounds of the QP; None: anywhere within reach.
-        solver: A back-end name. Default ``"quadprog-screened"`` (quadprog on the rows
-            near binding, then every row checked:
-            :class:`~mpcwalk.qp.solvers.screened.ScreenedSolver`; the same plans as
-            ``"quadprog"`` to 1e-12 m; of the 268 rows of a tick, one to three bind).
-            ``mpcwalk bench ticks``: median tick 0.78 ms against 0.80 ms with ``"quadprog"``
-            and 1.04 ms with ``"daqp"`` (with the flywheel of ``mpc-hip``, 420 rows: 1.15
-            against 1.34 ms). The QP is dense and rebuilt every tick, so ``"osqp-direct"``,
-            ``"kkt"`` and CasADi do not apply (their check refuses it).
+        solver: A back-end name. Default ``"quadprog"``. ``"quadprog-screened"``
+            (quadprog on the rows near binding, then every row checked:
+            :class:`~mpcwalk.qp.solvers.screened.ScreenedSolver`) gives the same plans to
+            1e-12 m, one to three of a tick's 268 rows binding; ``mpcwalk bench ticks``:
+            median tick 0.78 ms against 0.80 ms with ``"quadprog"`` and 1.04 ms with
+            ``"daqp"``, with the flywheel of ``mpc-hip`` (420 rows) 1.15 against 1.34 ms. It
+            is not the default: a walk's closed loop carries a 1e-12 m difference in the plans
+            into different falls on the edge of a robustness world (one of 32 flat worlds of
+            the small humanoid), and quadprog's plans are those of the published results. The
+            QP is dense and rebuilt every tick, so ``"osqp-direct"``, ``"kkt"`` and CasADi do
+            not apply (their check refuses it).
         solver_settings: Keyword settings of the back-end.
         footstep_reference: ``"absolute"`` (default): the cost pulls each footstep towards
             its planned position (after a push the walk returns to the plan);
@@ -168,7 +171,7 @@ class FootstepMpcGenerator(StepTimingAdaptation):
         control_period: float = 0.01,
         parameters: FootstepMpcParameters | None = None,
         reachability: ReachabilityRectangle | LegLimits | None = None,
-        solver: str = "quadprog-screened",
+        solver: str = "quadprog",
         solver_settings: dict | None = None,
         footstep_reference: str = "absolute",
         freeze_before_landing: float | None = None,
