@@ -82,8 +82,8 @@ class FootstepMpcGenerator(StepTimingAdaptation):
             (quadprog on the rows near binding, then every row checked:
             :class:`~mpcwalk.qp.solvers.screened.ScreenedSolver`) gives the same plans to
             1e-12 m, one to three of a tick's 268 rows binding; ``mpcwalk bench ticks``:
-            median tick 0.78 ms against 0.80 ms with ``"quadprog"`` and 1.04 ms with
-            ``"daqp"``, with the flywheel of ``mpc-hip`` (420 rows) 1.15 against 1.34 ms. It
+            median tick 0.75 ms against 0.78 ms with ``"quadprog"`` and 0.97 ms with
+            ``"daqp"``, with the flywheel of ``mpc-hip`` (420 rows) 1.04 against 1.18 ms. It
             is not the default: a walk's closed loop carries a 1e-12 m difference in the plans
             into different falls on the edge of a robustness world (one of 32 flat worlds of
             the small humanoid), and quadprog's plans are those of the published results. The
