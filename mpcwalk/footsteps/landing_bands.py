@@ -27,9 +27,7 @@ from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps.footstep import FootstepPlan
 from mpcwalk.footsteps.terrain_steps import DESCENT_HEEL_ROOM, DESCENT_MIN
 from mpcwalk.footsteps.terrain_tops import TerrainTops
-from mpcwalk.terrain import Surface, Terrain, TerrainReach
-
-_JOINT = 1e-9  # [m] two footprints closer than this along x are contiguous
+from mpcwalk.terrain import Terrain, TerrainReach
 
 
 @dataclass(frozen=True)
@@ -76,23 +74,15 @@ class LandingBands:
 
 def _footprint(terrain: Terrain, index: int) -> tuple[float, float, float, float]:
     """``(x_min, x_max, y_min, y_max)`` [m] of surface ``index`` with the contiguous
-    surfaces in its plane and of its width, ahead and behind."""
+    surfaces in its plane and of its width, ahead and behind (:meth:`Terrain.joined
+    <mpcwalk.terrain.Terrain.joined>` without a kink)."""
     surfaces = terrain.surfaces
-    top = surfaces[index]
-
-    def joins(a: Surface, b: Surface) -> bool:  # b continues a ahead, in a's plane
-        return (
-            abs(b.x_min - a.x_max) <= _JOINT
-            and b.slope == a.slope
-            and abs(b.height - a.end_height) <= 1e-9
-            and (b.y_min, b.y_max) == (a.y_min, a.y_max)
-        )
-
     first = last = index
-    while last + 1 < len(surfaces) and joins(surfaces[last], surfaces[last + 1]):
+    while last + 1 < len(surfaces) and terrain.joined(last, last + 1, 0.0):
         last += 1
-    while first > 0 and joins(surfaces[first - 1], surfaces[first]):
+    while first > 0 and terrain.joined(first - 1, first, 0.0):
         first -= 1
+    top = surfaces[index]
     return surfaces[first].x_min, surfaces[last].x_max, top.y_min, top.y_max
 
 

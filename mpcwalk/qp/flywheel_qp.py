@@ -111,6 +111,7 @@ class FlywheelFootstepQP(FootstepQP):
         self._state_at_update = np.zeros((2, 2))
         self._fly: dict | None = None  # the lean and momentum maps of the last update
         self._blocks: dict[int, dict] = {}  # what the flywheel adds, per first interval
+        self._now: dict = {}  # the blocks of the last update
 
     def _flywheel_maps(self, first: float) -> dict:
         """Lean and momentum at the samples as ``free (N,) + map (N, M) tau`` per unit state
@@ -200,8 +201,7 @@ class FlywheelFootstepQP(FootstepQP):
         self._state_at_update = np.array(self.flywheel_state, dtype=float)
         super().update(x0, t, velocity_reference, supports, steps, eta)
         N, M, nb, p = self.N, self.M, self.n_base, self.parameters
-        blocks = self._flywheel_blocks(float(self.sample_times[0] - t))
-        state = self._state_at_update
+        blocks, state = self._now, self._state_at_update
         self.P[nb:, nb:] = self.cost_scale * blocks["P"]
         for a, axis in enumerate(blocks["maps"]["axes"]):
             cols = slice(nb + a * M, nb + (a + 1) * M)
@@ -221,7 +221,8 @@ class FlywheelFootstepQP(FootstepQP):
         """The flywheel's bounds: the torque, the momentum at the first ``M`` samples, the
         lean there and at the last sample (rows ``+``, then ``-``, per quantity and axis)."""
         M, nb = self.M, self.n_base
-        blocks = self._flywheel_blocks(float(self.sample_times[0] - self.time))
+        # the first of the tick's uses of the flywheel's blocks (update and cost_factor follow)
+        blocks = self._now = self._flywheel_blocks(float(self.sample_times[0] - self.time))
         self._fly = blocks["maps"]
         state, lean_rows = self._state_at_update, blocks["lean_rows"]
         bounds = []
@@ -241,7 +242,7 @@ class FlywheelFootstepQP(FootstepQP):
         depends on the first interval alone, so its factor is computed once per first
         interval."""
         order, inverse = super().cost_factor()  # zero in the flywheel's columns
-        blocks = self._flywheel_blocks(float(self.sample_times[0] - self.time))
+        blocks = self._now
         inverse_fly = blocks.get("inverse_factor")
         if inverse_fly is None:
             inverse_fly = blocks["inverse_factor"] = inverse_cholesky(blocks["P"])

@@ -294,10 +294,9 @@ class FootstepQP:
         inverse (what an active-set solver such as quadprog starts from).
 
         In the order of each axis's jerks then footsteps, ``P`` is the same block ``s H``
-        twice (the axes share the cost); the jerks' block of ``H`` depends on the first
-        interval alone, so its factor is computed once per first interval, and each tick
-        only adds the footsteps' (``nf`` columns): ``R_12 = R_11^-T H_12``, ``R_22`` the
-        Cholesky factor of ``H_22 - R_12^T R_12``.
+        twice (the axes share the cost). The jerks' block of ``H`` depends on the first
+        interval alone: its factor is computed once per first interval, and each tick adds
+        the footsteps' border (:func:`~mpcwalk.qp.cost_factor.bordered_inverse_factor`).
 
         Raises:
             numpy.linalg.LinAlgError: The footsteps' block is not positive definite.

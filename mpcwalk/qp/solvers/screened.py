@@ -28,7 +28,7 @@ import quadprog
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.qp.cost_factor import inverse_cholesky
 from mpcwalk.qp.program import QuadraticProgram
-from mpcwalk.qp.result import QPResult
+from mpcwalk.qp.result import QPResult, kkt_residuals
 from mpcwalk.qp.solvers.base import QPSolver, failure
 
 #: Rows taken into the first round: the nearest ones to binding at the predicted solution.
@@ -109,7 +109,6 @@ class ScreenedSolver(QPSolver):
         q_ordered = -q[order]
         x = np.empty(len(q))
         lagrangian = np.zeros(0)
-        violation = np.zeros(0)
         self.rounds = iterations = 0
         while True:
             self.rounds += 1
@@ -136,13 +135,7 @@ class ScreenedSolver(QPSolver):
         if len(rows):
             y[rows] = lagrangian
         self._previous = x
-        Px = P @ x
-        primal = float(max(0.0, np.max(violation))) if m else 0.0
-        stationarity = Px + q
-        if len(rows):
-            stationarity += G[rows].T @ lagrangian
-        dual = float(np.max(np.abs(stationarity)))
-        gap = float(abs(x @ Px + q @ x + h @ y))
+        primal, dual, gap = kkt_residuals(P, q, G, np.full(m, -np.inf), h, x, y)
         return QPResult(
             x=x,
             y=y,
