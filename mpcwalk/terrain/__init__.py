@@ -14,7 +14,7 @@ from mpcwalk.terrain.features import (
     Stairs,
     SteppingStones,
 )
-from mpcwalk.terrain.fit import TerrainReach, check_terrain
+from mpcwalk.terrain.fit import MAX_STRADDLED_KINK_DEG, TerrainReach, check_terrain
 from mpcwalk.terrain.surface import Box, Surface, sole_tilt
 from mpcwalk.terrain.terrain import FLAT, SoleSupport, Terrain
 from mpcwalk.terrain.terrain_file import (
@@ -27,6 +27,7 @@ from mpcwalk.terrain.terrain_file import (
 __all__ = [
     "FEATURES",
     "FLAT",
+    "MAX_STRADDLED_KINK_DEG",
     "Box",
     "Feature",
     "Platform",

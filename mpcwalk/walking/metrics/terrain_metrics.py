@@ -5,6 +5,9 @@ stubs and the CoM's height, from the log (the simulator's ground truth) after th
   position (x, y, z), at each landing's check time (:func:`landing_check_times`);
 - **tread margin**: smallest distance [cm] of the measured sole's corners to the edges of
   the top it rests on (:meth:`~mpcwalk.terrain.Terrain.sole_support`), over the landings;
+  two tops meeting without a step at a kink a sole may straddle
+  (:data:`~mpcwalk.terrain.MAX_STRADDLED_KINK_DEG`: a ramp's foot and brow) count as one, as
+  for the planner;
 - **swing clearance**: smallest height [cm] of a swinging sole's corners above the terrain
   under them, over the middle of each swing (the first and last :data:`APPROACH_SHARE` of a
   swing lift off and set down on their own tops, where the clearance is zero by design);
@@ -17,6 +20,7 @@ Sole corners are taken with the sole's yaw and flat (the log holds the soles' ce
 yaws): a swinging sole's roll and pitch are small.
 """
 
+import math
 from typing import Any
 
 import numpy as np
@@ -24,7 +28,7 @@ import numpy as np
 from mpcwalk.footsteps.footstep import Side
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.height_profile import height_profile
-from mpcwalk.terrain import Terrain
+from mpcwalk.terrain import MAX_STRADDLED_KINK_DEG, Terrain
 from mpcwalk.walking.log import WalkLog
 from mpcwalk.walking.metrics.cop_margins import sole_corners
 
@@ -32,6 +36,7 @@ from mpcwalk.walking.metrics.cop_margins import sole_corners
 APPROACH_SHARE = 0.15
 #: Depth [m] below the terrain's surface from which a sole corner counts as a stub.
 STUB_DEPTH = 0.005
+_MAX_KINK = math.radians(MAX_STRADDLED_KINK_DEG)
 
 _SIDES = (Side.LEFT, Side.RIGHT)
 
@@ -58,7 +63,9 @@ def terrain_metrics(
         landed = log.sole_positions[i, j]
         errors.append(float(np.linalg.norm(landed - step.position)))
         height_errors.append(abs(float(landed[2] - step.position[2])))
-        support = terrain.sole_support(landed[:2], float(log.sole_yaws[i, j]), length, width)
+        support = terrain.sole_support(
+            landed[:2], float(log.sole_yaws[i, j]), length, width, max_kink=_MAX_KINK
+        )
         margins.append(support.margin)
     out["landing_error_3d_cm_mean"] = float(np.mean(errors) * 100) if errors else None
     out["landing_error_3d_cm_max"] = float(np.max(errors) * 100) if errors else None
