@@ -209,28 +209,11 @@ class TerrainStepPlacer:
             return min(on_own, key=preference)
         if progress > _EPS and best.top == own:
             stalled = best.stride <= _EPS
-            step_over = min(on_next, key=preference) if on_next else None
-            if step_over is not None and self._joins(step_over, best, own, left, stalled):
-                return best
-            if step_over is not None and (self.tops.is_narrow(own) or stalled):
-                return step_over
+            if on_next and (self.tops.is_narrow(own) or stalled):
+                return min(on_next, key=preference)
             if stalled and not on_next and left == own:
                 raise self._infeasible(k, step, target, support, own)
         return best
-
-    def _joins(self, step_over: Place, join: Place, own, left, stalled: bool) -> bool:
-        """Whether the landing joins the support foot on its top (``join``) rather than
-        stepping over onto the next one (``step_over``): when the swing foot comes from
-        another top (joining moves it on) and the step-over's stride is beyond the flat
-        legs' ``max_step_forward`` (the swing foot would travel two treads' runs and the CoM
-        one run in a single step: at a walking step's duration, faster than the legs
-        walk on the flat)."""
-        return (
-            left != own
-            and join.top == own
-            and step_over.stride > self.limits.max_step_forward + _EPS
-            and (stalled or self.tops.is_narrow(own))
-        )
 
     def _infeasible(
         self, k: int, step: Footstep, target: np.ndarray, support: Footstep, own
