@@ -28,8 +28,9 @@ under its way within :data:`LINE_TOLERANCE` of the straight line between its foo
 paper M's profile rises ``z_step`` above that line as above the floor, where the shaped one
 left g1 1.34 cm short of each stride up a 3 deg ramp, on the simulator's ground truth (paper
 M's: 0.49 cm; 0.39 cm on the floor tilted 3 deg up, the same slope without a terrain), and
-24 cm behind the plan after 40 steps. A swing down a ramp keeps the shaped profile (paper
-M's scraped the ramp with g1's toes: 2.22 cm short per step against 1.15 cm).
+its landings 18 cm off their footsteps on average over 40 steps (paper M's: 6.5 cm). A swing
+down a ramp keeps the shaped profile (paper M's scraped the ramp with g1's toes: 2.22 cm
+short per step against 1.15 cm).
 """
 
 import math
