@@ -184,3 +184,26 @@ def test_the_small_humanoid_walks_up_and_down_stairs_on_its_sensors():
     assert m.com_height_error_cm_rms < 1.0
     final = result.log.sole_positions[-1]
     assert final[:, 0].min() > 0.65 and abs(final[:, 2]).max() < 0.005  # past the stairs
+
+
+def test_g1_keeps_its_strides_up_an_even_ramp():
+    """Up a 3 deg ramp, on the ground truth: each landing within 8 mm of its stride from the
+    support foot on average (measured 4.9 mm). With the shaped swing (rise, travel, lower)
+    the same walk's landings were 13.9 mm off their strides."""
+    from mpcwalk.walking.runner import run_walk
+
+    spec = WalkSpec.build(
+        "g1",
+        controller="mpc",
+        command=(0.1, 0.0, 0.0),
+        nb_steps=16,
+        terrain=Terrain([Slope(0.2, length=2.0, angle=3.0)]),
+        ideal=True,
+        progress=False,
+    )
+    result = run_walk(spec)
+    m = result.metrics
+    assert m.outcome == "walked" and m.steps_completed == m.steps_planned
+    heights = [float(step.position[2]) for step in result.schedule.plan.steps]
+    assert heights[-1] > 0.03  # up the ramp
+    assert m.foot_step_error_cm_mean < 0.8
