@@ -116,6 +116,26 @@ def test_matrices_keep_their_pattern_and_change_only_with_polygons(formulation):
     assert len({q.tobytes() for q in qs}) > 100  # q moves every tick
 
 
+@pytest.mark.parametrize("formulation", ["dense", "sparse"])
+def test_the_bounds_and_dense_rows_built_per_sequence_are_the_direct_ones(formulation):
+    """What an update keeps per support sequence (bounds affine in the state, the dense
+    rows) equals what the layout gives for the tick's own state, with every constraint
+    group on."""
+    schedule = arc_schedule((0.1, 0.0, 0.0))
+    qp = WalkingQP(LIPM(), RICH, formulation, control_period=0.01)
+    rng = np.random.default_rng(5)
+    for tick in range(0, 150, 7):
+        x0 = X0 + rng.normal(scale=0.05, size=(3, 2))
+        qp.update(x0, 0.01 * tick, schedule)
+        lower, upper = qp.layout.bounds(x0, qp.supports)
+        np.testing.assert_allclose(qp.l, lower, rtol=0.0, atol=1e-12)
+        np.testing.assert_allclose(qp.u, upper, rtol=0.0, atol=1e-12)
+        dense = qp.problem(dense=True)
+        np.testing.assert_array_equal(dense.G, qp.A.toarray()[qp.m_eq :])
+        if formulation == "dense":
+            np.testing.assert_array_equal(qp.dense_arrays()[2], qp.A.toarray())
+
+
 def test_polygon_sequence_key_merges_phases_with_the_same_polygon():
     schedule = arc_schedule((0.1, 0.0, 0.0))
     tables = ScheduleTables.from_schedule(schedule)

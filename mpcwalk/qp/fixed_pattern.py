@@ -37,6 +37,8 @@ class FixedPattern:
         keys = rows[self.order] * self.shape[1] + cols[self.order]
         if len(keys) > 1 and np.any(np.diff(np.sort(keys)) == 0):
             raise ValueError("FixedPattern: duplicate (row, col) entries")
+        self.flat = keys
+        """Position of each entry (compressed-column order) in the row-major dense array."""
 
     @property
     def nnz(self) -> int:
@@ -62,7 +64,7 @@ class FixedPattern:
     def dense(self, data: np.ndarray) -> np.ndarray:
         """Dense array from values in compressed-column order."""
         out = np.zeros(self.shape)
-        out[self.rows[self.order], self.cols[self.order]] = data
+        out.ravel()[self.flat] = data
         return out
 
     def subset(self, keep: np.ndarray, row_offset: int = 0, nb_rows: int = -1) -> "SubPattern":

@@ -139,7 +139,8 @@ class _Layout(ABC):
 
     @abstractmethod
     def _free(self, kind: str, x0: np.ndarray) -> np.ndarray:
-        """Part of the constrained quantity of ``kind`` that ``x0`` alone gives."""
+        """Part of the constrained quantity of ``kind`` that the states ``x0`` (3, 2, B)
+        alone give: (N, 2, B) per sample, (2, B) for the terminal DCM."""
 
     @abstractmethod
     def P_values(self, com_weights: np.ndarray) -> np.ndarray:
@@ -189,20 +190,29 @@ class _Layout(ABC):
         return np.concatenate(parts)
 
     def upper_bounds(self, x0: np.ndarray, seq: SupportSequence) -> np.ndarray:
-        """Right-hand sides ``u`` of the inequality rows (``l = -inf``)."""
+        """Right-hand sides ``u`` of the inequality rows (``l = -inf``) for the state ``x0``
+        (3, 2), or for ``B`` states at once, ``x0`` of shape (3, 2, B) and ``u`` of shape
+        (m_ineq, B)."""
         p, parts = self.parameters, []
+        batch = np.asarray(x0, dtype=float)
+        single = batch.ndim == 2
+        if single:
+            batch = batch[..., None]
         for kind, _ in self.groups:
             margin = p.com_margin if kind.startswith("com") else p.zmp_margin
             if kind.endswith("tick"):
-                free = self._tick[kind][0] @ x0
-                parts.append(seq.tick_b - margin - seq.tick_A @ free)
+                free = np.einsum("k,kab->ab", self._tick[kind][0], batch)
+                parts.append((seq.tick_b - margin)[:, None] - seq.tick_A @ free)
             elif kind == "dcm":
-                parts.append(seq.zmp_b[-1] - margin - seq.zmp_A[-1] @ self._free(kind, x0))
+                free = self._free(kind, batch)
+                parts.append((seq.zmp_b[-1] - margin)[:, None] - seq.zmp_A[-1] @ free)
             else:
                 A, b = (seq.com_A, seq.com_b) if kind == "com" else (seq.zmp_A, seq.zmp_b)
-                free = self._free(kind, x0)
-                parts.append((b - margin - np.einsum("ira,ia->ir", A, free)).ravel())
-        return np.concatenate(parts) if parts else np.zeros(0)
+                free = self._free(kind, batch)
+                bound = (b - margin)[..., None] - A @ free
+                parts.append(bound.reshape(-1, batch.shape[2]))
+        u = np.concatenate(parts) if parts else np.zeros((0, batch.shape[2]))
+        return u[:, 0] if single else u
 
     def shift(self, vector: np.ndarray, which: str, samples: float) -> np.ndarray:
         """Shift the per-sample blocks of a primal (``which="primal"``) or dual
@@ -256,10 +266,28 @@ class CondensedLayout(_Layout):
         matrix = self.Pzu if kind == "zmp" else self.Ppu
         return Ahp[ti] * matrix[ti, tj][:, None, None]
 
+    def dense_inequalities(self, seq: SupportSequence) -> np.ndarray:
+        """The inequality rows as a dense array, shape (m_ineq, n): the values of
+        :meth:`A_values` where the pattern has them, zero elsewhere (built directly, without
+        the compressed-column detour)."""
+        N, parts = self.N, []
+        for kind, _ in self.groups:
+            if kind.endswith("tick"):
+                rows = np.zeros((E, 2, N))
+                rows[:, :, 0] = seq.tick_A * self._tick[kind][1]
+            elif kind == "dcm":
+                rows = seq.zmp_A[-1][:, :, None] * self.Pxu[-1][None, None, :]
+            else:
+                A, matrix = (seq.com_A, self.Ppu) if kind == "com" else (seq.zmp_A, self.Pzu)
+                rows = A[..., None] * matrix[:, None, None, :]  # zero above the diagonal
+            parts.append(rows.reshape(-1, 2 * N))
+        dense = np.concatenate(parts) if parts else np.zeros((0, 2 * N))
+        return dense + 0.0  # no negative zeros: the pattern's zeros are positive
+
     def _free(self, kind: str, x0: np.ndarray) -> np.ndarray:
         if kind == "dcm":
-            return self.Pxs[-1] @ x0
-        return (self.Pzs if kind == "zmp" else self.Pps) @ x0
+            return np.einsum("k,kab->ab", self.Pxs[-1], x0)
+        return np.einsum("ik,kab->iab", self.Pzs if kind == "zmp" else self.Pps, x0)
 
     def P_values(self, com_weights: np.ndarray) -> np.ndarray:
         p, s = self.parameters, 2.0 * self.cost_scale
@@ -300,7 +328,8 @@ class CondensedLayout(_Layout):
         return maps
 
     def bounds(self, x0, seq: SupportSequence) -> tuple[np.ndarray, np.ndarray]:
-        return np.full(self.m, -np.inf), self.upper_bounds(x0, seq)
+        upper = self.upper_bounds(x0, seq)
+        return np.full(upper.shape, -np.inf), upper
 
 
 class SparseLayout(_Layout):
@@ -367,7 +396,8 @@ class SparseLayout(_Layout):
         return Ahp
 
     def _free(self, kind: str, x0: np.ndarray) -> np.ndarray:
-        return np.zeros(2) if kind == "dcm" else np.zeros((self.N, 2))
+        batch = x0.shape[2:]
+        return np.zeros((2, *batch)) if kind == "dcm" else np.zeros((self.N, 2, *batch))
 
     def P_values(self, com_weights: np.ndarray) -> np.ndarray:
         p, s, N = self.parameters, 2.0 * self.cost_scale, self.N
@@ -392,8 +422,11 @@ class SparseLayout(_Layout):
         return s * np.concatenate([np.zeros(2 * N), gx.ravel()])
 
     def bounds(self, x0, seq: SupportSequence) -> tuple[np.ndarray, np.ndarray]:
-        states = np.zeros((2, self.N, 3))
-        states[:, 0, :] = (self.model.A @ x0).T
-        eq = states.ravel()
+        x0 = np.asarray(x0, dtype=float)
+        batch = x0.shape[2:]
+        states = np.zeros((2, self.N, 3, *batch))
+        states[:, 0] = np.einsum("kl,la...->ak...", self.model.A, x0)
+        eq = states.reshape(6 * self.N, *batch)
         u_ineq = self.upper_bounds(x0, seq)
-        return (np.concatenate([eq, np.full(self.m_ineq, -np.inf)]), np.concatenate([eq, u_ineq]))
+        lower = np.full((self.m_ineq, *batch), -np.inf)
+        return np.concatenate([eq, lower]), np.concatenate([eq, u_ineq])

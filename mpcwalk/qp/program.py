@@ -99,7 +99,6 @@ class FixedPatternProgram(QuadraticProgram, Protocol):
         l: Lower bounds, shape (m,); equalities first.
         u: Upper bounds, shape (m,).
         P_data: Values of the full symmetric ``P`` in the CSC order of :attr:`P_pattern`.
-        A_data: Values of ``A`` in the CSC order of :attr:`A_pattern`.
         P_version: Incremented when the values of ``P`` change.
         A_version: Incremented when the values of ``A`` change.
     """
@@ -108,9 +107,12 @@ class FixedPatternProgram(QuadraticProgram, Protocol):
     l: np.ndarray
     u: np.ndarray
     P_data: np.ndarray
-    A_data: np.ndarray
     P_version: int
     A_version: int
+
+    @property
+    def A_data(self) -> np.ndarray:
+        """Values of ``A`` in the CSC order of :attr:`A_pattern`."""
 
     @property
     def P_pattern(self) -> FixedPattern:

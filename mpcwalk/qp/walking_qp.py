@@ -98,8 +98,6 @@ class WalkingQP:
         """Half-planes of the inequality rows as last updated."""
         self.P_data = layout.P_pattern.data(layout.P_values(self._com_weights))
         """Values of the full symmetric ``P`` in CSC order."""
-        self.A_data = layout.A_pattern.data(layout.A_values(self.supports))
-        """Values of ``A`` (OSQP form) in CSC order."""
         self.q = np.zeros(self.n)
         self.l = np.full(self.m, -np.inf)
         self.u = np.full(self.m, np.inf)
@@ -179,7 +177,6 @@ class WalkingQP:
                 tables.b[tick_idx],
             )
             if layout.m_ineq:
-                self.A_data = layout.A_pattern.data(layout.A_values(self.supports))
                 self.A_version += 1
                 changed = True
             if p.com_weight_single_support_only and p.com_weight:
@@ -235,21 +232,12 @@ class WalkingQP:
     def _affine_bounds(self, supports: SupportSequence):
         """``(l0, Kl, u0, Ku)`` with ``l = l0 + Kl s`` and ``u = u0 + Ku s``, ``s`` the
         initial state ``x0.T.ravel()`` (the bounds are affine in it); a None matrix for
-        bounds that do not depend on it. Computed once per support sequence, so that a
-        tick costs two products."""
-        zero = np.zeros((3, 2))
-        l0, u0 = self.layout.bounds(zero, supports)
-        Kl, Ku = np.zeros((len(l0), 6)), np.zeros((len(u0), 6))
-        finite_l, finite_u = np.isfinite(l0), np.isfinite(u0)
-        for j in range(6):
-            basis = np.zeros(6)
-            basis[j] = 1.0
-            l, u = self.layout.bounds(basis.reshape(2, 3).T, supports)
-            Kl[finite_l, j] = l[finite_l] - l0[finite_l]
-            Ku[finite_u, j] = u[finite_u] - u0[finite_u]
-        l0.setflags(write=False)
-        u0.setflags(write=False)
-        return l0, Kl if Kl.any() else None, u0, Ku if Ku.any() else None
+        bounds that do not depend on it. Computed once per support sequence, in one pass
+        over the zero state and the six unit states, so that a tick costs two products."""
+        states = np.zeros((3, 2, 7))
+        states[np.arange(6) % 3, np.arange(6) // 3, np.arange(1, 7)] = 1.0
+        lower, upper = self.layout.bounds(states, supports)
+        return (*_affine(lower), *_affine(upper))
 
     def _reference(self, value, name: str) -> np.ndarray | None:
         if value is None:
@@ -269,6 +257,16 @@ class WalkingQP:
             entry = (version, build())
             self._cache[name] = entry
         return entry[1]
+
+    @property
+    def A_data(self) -> np.ndarray:
+        """Values of ``A`` (OSQP form) in CSC order (computed when first asked after each
+        change)."""
+        return self._cached(
+            "A_data",
+            self.A_version,
+            lambda: self.layout.A_pattern.data(self.layout.A_values(self.supports)),
+        )
 
     @property
     def P_pattern(self) -> FixedPattern:
@@ -320,9 +318,7 @@ class WalkingQP:
             G = self._cached(
                 f"G_{kind}",
                 self.A_version,
-                lambda: (
-                    self._G_rows.dense(self.A_data) if dense else self._G_rows.matrix(self.A_data)
-                ),
+                lambda: self._dense_inequalities() if dense else self._G_rows.matrix(self.A_data),
             )
             h = self.u[self.m_eq :]
         if self.m_eq:
@@ -353,8 +349,14 @@ class WalkingQP:
         P = self._cached(
             "P_dense", self.P_version, lambda: self.layout.P_pattern.dense(self.P_data)
         )
-        G = self._cached("G_dense", self.A_version, lambda: self._G_rows.dense(self.A_data))
+        G = self._cached("G_dense", self.A_version, self._dense_inequalities)
         return P, self.q, G, self.u
+
+    def _dense_inequalities(self) -> np.ndarray:
+        layout = self.layout
+        if isinstance(layout, CondensedLayout):
+            return layout.dense_inequalities(self.supports)
+        return self._G_rows.dense(self.A_data)
 
     def require_update(self) -> None:
         """Raise NotReset before the first :meth:`update`."""
@@ -386,3 +388,20 @@ class WalkingQP:
     def shift_dual(self, y: np.ndarray, samples: float) -> np.ndarray:
         """Dual vector (OSQP form) shifted by ``samples`` sampling periods."""
         return self.layout.shift(np.asarray(y, dtype=float), "dual", samples)
+
+
+def _affine(values: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+    """``(v0, K)`` of bounds ``values`` (m, 7) at the zero state and the six unit states:
+    ``v0`` (read-only) and ``K`` (m, 6) with ``v = v0 + K s``, None when no bound depends
+    on the state; an infinite bound stays infinite (its row of ``K`` is zero)."""
+    v0 = values[:, 0].copy()
+    v0.setflags(write=False)
+    finite = np.isfinite(v0)
+    if not finite.any():
+        return v0, None
+    if finite.all():
+        K = values[:, 1:] - v0[:, None]
+    else:
+        K = np.zeros((len(v0), 6))
+        K[finite] = values[finite, 1:] - v0[finite, None]
+    return v0, K if K.any() else None

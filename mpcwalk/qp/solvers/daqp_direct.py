@@ -5,7 +5,13 @@ the Hessian, the constraint matrix in its transformed space and the working set 
 solve. On a QP whose matrices keep their values from tick to tick (the fixed-footstep
 walking QP: ``P`` never changes, ``A`` only when the polygons over the horizon change),
 each tick then only pushes the vectors: no refactorisation, and the solve starts from the
-active set of the previous tick (hot start). QPs rebuilt every tick (the footstep-adaptive
+active set of the previous tick (hot start). Such a QP is handed to DAQP whitened: with
+``P = R^T R`` factorised here (once per distinct ``P``, kept for the next time it comes
+back), DAQP solves for ``v = R x`` with an identity cost, the gradient ``R^-T q`` and the
+rows ``G R^-1``. A new ``A`` is then one small BLAS product here, where DAQP's own transform
+of the rows takes several times longer, and a new ``P`` (the static gait's CoM weight moving
+along the horizon) is a new ``A`` and gradient only: the working set is kept in both cases.
+QPs rebuilt every tick (the footstep-adaptive
 MPC's) are set up anew each tick, with the shifted previous solution as the primal start.
 A dense QP with equality rows that offers them (``dense_rows()``: the inverse dynamics') is
 solved in one call, the equalities held in the working set for good (DAQP's sense 5).
@@ -15,6 +21,7 @@ import time
 
 import daqp
 import numpy as np
+import scipy.linalg
 
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.qp.program import QuadraticProgram
@@ -59,10 +66,13 @@ class DaqpSolver(QPSolver):
         self._sense = np.zeros(0, dtype=np.int32)
         self._row_sense = np.zeros(0, dtype=np.int32)  # the rows of dense_rows(): m_eq first
         self._row_shape = (0, 0)
+        self._whitening: _Whitening | None = None  # of the fixed QP's P (None: not whitened)
+        self._whitenings = _Whitenings()
 
     def reset(self) -> None:
-        self._model = self._qp = self._previous = None
+        self._model = self._qp = self._previous = self._whitening = None
         self._versions = (-1, -1)
+        self._whitenings = _Whitenings()
 
     def check(self, qp: QuadraticProgram) -> None:
         if qp.formulation == "sparse" or (qp.m_eq and not hasattr(qp, "dense_rows")):
@@ -96,21 +106,33 @@ class DaqpSolver(QPSolver):
         fixed = bool(qp.fixed_pattern)
         versions = (getattr(qp, "P_version", -1), getattr(qp, "A_version", -1))
         ready = True
-        if (
-            not fixed
-            or self._model is None
-            or self._qp is not qp
-            or versions[0] != self._versions[0]
-        ):
-            # A new problem, a new P (a new factorisation) or a QP rebuilt every tick.
+        if not fixed:
+            # A QP rebuilt every tick: set up anew, from the shifted previous solution.
             primal_start = None
-            if not fixed and self._previous is not None and self._qp is qp:
+            if self._previous is not None and self._qp is qp:
                 primal_start = qp.shift_primal(self._previous, shift)
+            self._whitening = None
             ready = self._setup(P, q, G, h, primal_start)
-        elif versions[1] != self._versions[1]:
-            ready = self._model.update(A=G, f=q, bupper=h) >= 0  # keeps the working set
-        else:  # (no rows: DAQP takes no empty bound vector)
-            ready = self._model.update(f=q, bupper=h if len(h) else None) >= 0
+        else:
+            model = self._model if self._qp is qp else None
+            W = self._whitening
+            if model is None or versions[0] != self._versions[0]:
+                W = self._whitenings.get(P)
+                if W is None or self._whitening is None:  # DAQP factorises P itself
+                    model = None
+            self._whitening = W
+            if model is None:
+                if W is None:
+                    ready = self._setup(P, q, G, h)
+                else:
+                    ready = self._setup(np.eye(len(q)), W.inverse.T @ q, W.rows(G), h)
+            else:
+                f = q if W is None else W.inverse.T @ q
+                if versions != self._versions:  # new rows (or a new P): the working set stays
+                    flag = model.update(A=G if W is None else W.rows(G), f=f, bupper=h)
+                else:  # (no rows: DAQP takes no empty bound vector)
+                    flag = model.update(f=f, bupper=h if len(h) else None)
+                ready = flag >= 0
         self._qp, self._versions = qp, versions
         if not ready or self._model is None:
             self._model = self._previous = None
@@ -120,6 +142,8 @@ class DaqpSolver(QPSolver):
         if exitflag <= 0:
             self._model = self._previous = None  # start the next tick from scratch
             return failure(self.name, f"exitflag {exitflag}", elapsed)
+        if fixed and self._whitening is not None:
+            x = self._whitening.inverse @ x  # back from v = R x
         x = np.array(x, dtype=float)
         z = np.array(info["lam"], dtype=float)
         self._previous = x
@@ -168,3 +192,66 @@ class DaqpSolver(QPSolver):
         primal = float(max(0.0, np.max(Ax - upper), np.max(lower - Ax)))
         dual = float(np.max(np.abs(P @ x + q + A.T @ z)))
         return self._found(x, z, elapsed, info, (primal, dual, None))
+
+
+class _Whitening:
+    """``R^-1`` of a positive definite ``P = R^T R`` (``R`` upper triangular), kept per
+    diagonal block of ``P`` (the walking QP's two axes): the rows ``G R^-1`` are products of
+    a block's columns with its own small factor, each small enough that the BLAS runs them
+    on the calling thread (one product of the whole matrix woke BLAS threads, and their
+    start-up reached milliseconds on a busy machine).
+
+    Raises:
+        numpy.linalg.LinAlgError: ``P`` is not positive definite.
+    """
+
+    _PRODUCT_SIZE = 256 * 32 * 32  # rows x columns x columns of one product, at most
+
+    def __init__(self, P: np.ndarray) -> None:
+        n = len(P)
+        # block b ends after row i when no row up to i reaches a column after i
+        nonzero = P != 0.0
+        last = n - 1 - np.argmax(nonzero[:, ::-1], axis=1)
+        ends = np.flatnonzero(np.maximum.accumulate(last) <= np.arange(n)) + 1
+        self.inverse = np.zeros((n, n))
+        """``R^-1``, shape (n, n)."""
+        self.blocks: list[tuple[slice, np.ndarray]] = []
+        for start, stop in zip(np.concatenate([[0], ends[:-1]]), ends):
+            lower = np.linalg.cholesky(P[start:stop, start:stop])
+            inverse_lower, info = scipy.linalg.lapack.dtrtri(lower, lower=1)
+            if info:  # pragma: no cover - a Cholesky factor has a positive diagonal
+                raise np.linalg.LinAlgError("singular Cholesky factor")
+            block = slice(int(start), int(stop))
+            self.inverse[block, block] = inverse_lower.T
+            self.blocks.append((block, self.inverse[block, block]))
+
+    def rows(self, G: np.ndarray) -> np.ndarray:
+        """``G R^-1``."""
+        out = np.empty_like(G)
+        for columns, inverse in self.blocks:
+            step = max(1, self._PRODUCT_SIZE // len(inverse) ** 2)
+            for first in range(0, len(G), step):
+                out[first : first + step, columns] = G[first : first + step, columns] @ inverse
+        return out
+
+
+class _Whitenings:
+    """The whitenings of the last distinct cost matrices (a QP whose ``P`` cycles through a
+    few values, as the static gait's, factorises each once)."""
+
+    _SIZE = 64
+
+    def __init__(self) -> None:
+        self._by_matrix: dict[bytes, _Whitening | None] = {}
+
+    def get(self, P: np.ndarray) -> _Whitening | None:
+        """The whitening of ``P``, None when ``P`` is not positive definite."""
+        key = P.tobytes()
+        if key not in self._by_matrix:
+            if len(self._by_matrix) >= self._SIZE:
+                del self._by_matrix[next(iter(self._by_matrix))]
+            try:
+                self._by_matrix[key] = _Whitening(P)
+            except np.linalg.LinAlgError:
+                self._by_matrix[key] = None
+        return self._by_matrix[key]
