@@ -94,8 +94,11 @@ def test_generators_lists_every_name(capsys):
 
 @pytest.mark.slow
 def test_tick_benchmark_reduced_run():
-    results = run_tick_benchmark(nb_steps=2, solvers=["daqp"], include_peer=True, progress=False)
+    results = run_tick_benchmark(
+        nb_steps=2, solvers=["daqp"], include_peer=True, progress=False, repeats=2
+    )
     labels = [r.label for r in results]
+    assert {r.repeats for r in results} == {2}
     assert labels[0] == "analytic"
     for r in results:  # each median against the closed form's of the same run
         assert r.ratio_to_analytic == pytest.approx(r.median_us / results[0].median_us)

@@ -136,6 +136,26 @@ def test_the_bounds_and_dense_rows_built_per_sequence_are_the_direct_ones(formul
             np.testing.assert_array_equal(qp.dense_arrays()[2], qp.A.toarray())
 
 
+def test_a_qp_that_lived_through_the_walk_equals_a_fresh_one():
+    """What an update keeps from earlier ticks (the cost matrices per CoM-weight pattern,
+    the polygons' rows per sequence) gives the QP a fresh one builds at the same tick."""
+    schedule = arc_schedule((0.025, 0.0, 0.0), step_duration=2.0, r_ds=0.5)
+    lived = WalkingQP(LIPM(), RICH, "dense", control_period=0.01)
+    versions = set()
+    for tick in range(0, 900, 3):
+        lived.update(X0, 0.01 * tick, schedule)
+        versions.add(lived.P_version)
+        if tick % 21 == 0:
+            fresh = WalkingQP(LIPM(), RICH, "dense", control_period=0.01)
+            fresh.update(X0, 0.01 * tick, schedule)
+            np.testing.assert_array_equal(lived.P_data, fresh.P_data)
+            np.testing.assert_array_equal(lived.A_data, fresh.A_data)
+            np.testing.assert_array_equal(lived.dense_arrays()[2], fresh.dense_arrays()[2])
+            np.testing.assert_array_equal(lived.u, fresh.u)
+            np.testing.assert_array_equal(lived.q, fresh.q)
+    assert len(versions) > 10  # the CoM weights moved along the horizon
+
+
 def test_polygon_sequence_key_merges_phases_with_the_same_polygon():
     schedule = arc_schedule((0.1, 0.0, 0.0))
     tables = ScheduleTables.from_schedule(schedule)

@@ -48,6 +48,12 @@ def _add_ticks(bsub) -> None:
         help="comma-separated qpsolvers back-ends for the MPC (default: "
         f"{','.join(DEFAULT_QPSOLVERS)})",
     )
+    ticks.add_argument(
+        "--repeats",
+        type=int,
+        default=3,
+        help="walks per case: the medians over them of each walk's median and p99",
+    )
     ticks.add_argument("--no-peer", action="store_true", help="skip the qpmpc peer")
     ticks.add_argument("--no-progress", action="store_true", help="no progress bar")
     ticks.add_argument(
@@ -128,6 +134,7 @@ def run_ticks(args: argparse.Namespace) -> int:
         solvers=args.solvers.split(",") if args.solvers else None,
         include_peer=not args.no_peer,
         progress=not args.no_progress,
+        repeats=args.repeats,
     )
     text = tick_report(
         results,

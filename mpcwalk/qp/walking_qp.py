@@ -96,7 +96,8 @@ class WalkingQP:
         self._com_weights = np.full(self.N, parameters.com_weight)
         self.supports = SupportSequence.empty(self.N)
         """Half-planes of the inequality rows as last updated."""
-        self.P_data = layout.P_pattern.data(layout.P_values(self._com_weights))
+        self._P_by_weights: dict[bytes, np.ndarray] = {}
+        self.P_data = self._P_data(self._com_weights)
         """Values of the full symmetric ``P`` in CSC order."""
         self.q = np.zeros(self.n)
         self.l = np.full(self.m, -np.inf)
@@ -162,7 +163,8 @@ class WalkingQP:
         changed = False
         if self._set_heights(schedule, t, times):
             self._key = None  # the ZMP rows changed: every value is recomputed
-            self.P_data = layout.P_pattern.data(layout.P_values(self._com_weights))
+            self._P_by_weights.clear()
+            self.P_data = self._P_data(self._com_weights)
             self.P_version += 1
             changed = True
         if key != self._key:
@@ -183,7 +185,7 @@ class WalkingQP:
                 weights = p.com_weight * tables.single[idx]
                 if not np.array_equal(weights, self._com_weights):
                     self._com_weights = weights
-                    self.P_data = layout.P_pattern.data(layout.P_values(weights))
+                    self.P_data = self._P_data(weights)
                     self.P_version += 1
                     changed = True
             self._bounds_map = self._affine_bounds(self.supports)
@@ -203,6 +205,20 @@ class WalkingQP:
         self.u = u0 if Ku is None else u0 + Ku @ state
         self.x0, self.time, self.sample_times = x0.copy(), float(t), times
         return changed
+
+    def _P_data(self, com_weights: np.ndarray) -> np.ndarray:
+        """CSC values of ``P`` for the CoM weights of the samples: computed once per distinct
+        weights (with ``com_weight_single_support_only`` they follow the single supports
+        along the horizon, a few patterns that come back every step) and heights."""
+        key = com_weights.tobytes()
+        data = self._P_by_weights.get(key)
+        if data is None:
+            if len(self._P_by_weights) >= _KEPT_COSTS:
+                del self._P_by_weights[next(iter(self._P_by_weights))]
+            data = self.layout.P_pattern.data(self.layout.P_values(com_weights))
+            data.setflags(write=False)
+            self._P_by_weights[key] = data
+        return data
 
     def _set_heights(self, schedule: ContactSchedule, t: float, times: np.ndarray) -> bool:
         """The layout's ZMP rows for the CoM height the schedule's footsteps give over the
@@ -388,6 +404,10 @@ class WalkingQP:
     def shift_dual(self, y: np.ndarray, samples: float) -> np.ndarray:
         """Dual vector (OSQP form) shifted by ``samples`` sampling periods."""
         return self.layout.shift(np.asarray(y, dtype=float), "dual", samples)
+
+
+#: Cost matrices kept per distinct CoM weights.
+_KEPT_COSTS = 64
 
 
 def _affine(values: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
