@@ -12,6 +12,7 @@ from mpcwalk.bench.ticks import format_table, run_tick_benchmark
 from mpcwalk.cli import build_parser, main
 from mpcwalk.cli.console import format_length
 from mpcwalk.cli.walk_options import spec_from_args
+from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.walking.specification import WorldSpec
 
 
@@ -120,6 +121,32 @@ def test_tick_benchmark_reduced_run():
         assert r.failures == 0, r.label
     table = format_table(results)
     assert table.count("\n") == len(results) + 1
+
+
+def test_tick_benchmark_walks_in_rounds_and_keeps_going_past_a_failing_case(monkeypatch):
+    import mpcwalk.bench.ticks as ticks
+
+    cases = [
+        ("analytic", "analytic", "", {}),
+        ("broken", "mpc", "nowhere", {"solver": "nowhere"}),
+        ("preview", "preview", "", {}),
+    ]
+    monkeypatch.setattr(ticks, "_cases", lambda solvers, include_peer: cases)
+    order = []
+    rollout = ticks.rollout
+
+    def recorded(generator, schedule):
+        order.append(generator.name)
+        return rollout(generator, schedule)
+
+    monkeypatch.setattr(ticks, "rollout", recorded)
+    results = ticks.run_tick_benchmark(nb_steps=2, progress=False, repeats=2)
+    assert order == ["analytic", "preview", "analytic", "preview"]  # round after round
+    assert [r.label for r in results] == ["analytic", "broken", "preview"]
+    assert "nowhere" in results[1].error and results[1].nb_ticks == 0
+    assert results[0].repeats == results[2].repeats == 2 and not results[2].error
+    with pytest.raises(ConfigurationError, match="repeats must be a positive integer"):
+        ticks.run_tick_benchmark(nb_steps=2, progress=False, repeats=0)
 
 
 def test_bench_commands_write_their_markdown_and_json(tmp_path, capsys):

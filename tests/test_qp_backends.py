@@ -326,11 +326,16 @@ def test_daqp_direct_whitens_per_block_of_the_cost():
     P[:5, :5], P[5:, 5:] = blocks
     whitening = _Whitening(P)
     assert [(b.start, b.stop) for b, _ in whitening.blocks] == [(0, 5), (5, 12)]
+    assert whitening.axis is None  # two blocks, not the same one twice
+    np.testing.assert_allclose(whitening.factor.T @ whitening.factor, P, atol=1e-12)
     W = whitening.inverse
     np.testing.assert_allclose(W.T @ P @ W, np.eye(12), atol=1e-12)
     assert np.all(np.tril(W, -1) == 0.0)  # R^-1 is upper triangular
     G = rng.normal(size=(300, 12))  # more rows than one product takes
     np.testing.assert_allclose(whitening.rows(G), G @ W, atol=1e-12)
+    twice = np.kron(np.eye(2), blocks[1])
+    axis = _Whitening(twice).axis
+    assert axis is not None and np.allclose(axis.T @ blocks[1] @ axis, np.eye(7), atol=1e-12)
     coupled = P.copy()
     coupled[0, 11] = coupled[11, 0] = 0.1
     assert len(_Whitening(coupled).blocks) == 1

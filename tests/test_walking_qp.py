@@ -3,8 +3,10 @@
 import numpy as np
 import pytest
 from plans import velocity_schedule as arc_schedule
+from test_height_profile import climbing_schedule
 
 from mpcwalk.exceptions import ConfigurationError, NotReset
+from mpcwalk.footsteps.footstep import StepTiming
 from mpcwalk.gait.support_margins import support_margins
 from mpcwalk.generators.mpc import MpcGenerator
 from mpcwalk.models.cart_table import CartTable
@@ -136,10 +138,15 @@ def test_the_bounds_and_dense_rows_built_per_sequence_are_the_direct_ones(formul
             np.testing.assert_array_equal(qp.dense_arrays()[2], qp.A.toarray())
 
 
-def test_a_qp_that_lived_through_the_walk_equals_a_fresh_one():
+@pytest.mark.parametrize("ground", ["flat", "stairs"])
+def test_a_qp_that_lived_through_the_walk_equals_a_fresh_one(ground):
     """What an update keeps from earlier ticks (the cost matrices per CoM-weight pattern,
-    the polygons' rows per sequence) gives the QP a fresh one builds at the same tick."""
-    schedule = arc_schedule((0.025, 0.0, 0.0), step_duration=2.0, r_ds=0.5)
+    the polygons' rows per sequence, the bounds' map of the state, dropped when the CoM
+    height's rows change on stairs) gives the QP a fresh one builds at the same tick."""
+    if ground == "flat":
+        schedule = arc_schedule((0.025, 0.0, 0.0), step_duration=2.0, r_ds=0.5)
+    else:
+        schedule = climbing_schedule(rise=0.03, timing=StepTiming(2.0, 0.5, 0.6, 0.8))
     lived = WalkingQP(LIPM(), RICH, "dense", control_period=0.01)
     versions = set()
     for tick in range(0, 900, 3):
@@ -154,6 +161,21 @@ def test_a_qp_that_lived_through_the_walk_equals_a_fresh_one():
             np.testing.assert_array_equal(lived.u, fresh.u)
             np.testing.assert_array_equal(lived.q, fresh.q)
     assert len(versions) > 10  # the CoM weights moved along the horizon
+
+
+def test_the_whitened_rows_are_the_rows_times_the_factor_of_each_axis():
+    schedule = arc_schedule((0.1, 0.0, 0.3))
+    qp = WalkingQP(LIPM(), RICH, "dense", control_period=0.01)
+    transform = np.triu(np.random.default_rng(2).normal(size=(qp.N, qp.N)))
+    both = np.kron(np.eye(2), transform)
+    for tick in (0, 37, 81):
+        qp.update(X0, 0.01 * tick, schedule)
+        G = qp.dense_arrays()[2]
+        np.testing.assert_allclose(qp.whitened_inequalities(transform), G @ both, atol=1e-12)
+    sparse = WalkingQP(LIPM(), RICH, "sparse", control_period=0.01)
+    sparse.update(X0, 0.0, schedule)
+    with pytest.raises(ConfigurationError, match="condensed layout"):
+        sparse.whitened_inequalities(transform)
 
 
 def test_polygon_sequence_key_merges_phases_with_the_same_polygon():

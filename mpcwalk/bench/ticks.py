@@ -3,10 +3,11 @@
 Each case runs :func:`mpcwalk.generators.rollout` over the same schedule and
 records the wall time of every ``step()`` call (update + solve for the QP
 generators). Ratios are taken against the closed-form generator measured in
-the same run. Each case walks ``repeats`` times (a fresh generator each time) and
-reports the median over its walks of each walk's median and 99th percentile: a tail
-percentile of one walk moves by a fifth from run to run on a virtual machine, the median of
-three by much less.
+the same run. Each case walks ``repeats`` times (a fresh generator each time), in rounds
+that walk every case once, and reports the median over its walks of each walk's median and
+99th percentile: a tail percentile of one walk moved by a fifth from run to run on this
+virtual machine, and a slow moment of the machine once made every tick of the closed form's
+first walk 1.7x slower (the reference of every ratio).
 """
 
 from collections.abc import Sequence
@@ -101,6 +102,14 @@ def _cases(solvers: Sequence[str] | None, include_peer: bool):
         cases.append(("mpc-hip quadprog-screened", "mpc-hip", "quadprog-screened", hip))
     cases.append(
         (
+            "static-qp daqp-direct (default, slow timing)",
+            "static-qp",
+            "daqp-direct",
+            {"solver": "daqp-direct"},
+        )
+    )
+    cases.append(
+        (
             "static-qp osqp-direct (slow timing)",
             "static-qp",
             "osqp-direct",
@@ -166,40 +175,37 @@ def run_tick_benchmark(
             VelocityPlanner(LegLimits(), slow).plan(slow_command, nb_steps), FootGeometry()
         ),
     }
+    cases = _cases(solvers, include_peer)
+    walks: list[list] = [[] for _ in cases]
+    errors = [""] * len(cases)
+    # round after round, every case once per round: a slow moment of the machine falls on
+    # one walk of a few cases, which the medians over the rounds leave out
+    rounds = [(r, i) for r in range(int(repeats)) for i in range(len(cases))]
+    for _, i in tqdm(rounds, desc="walks", disable=not progress):
+        label, generator, solver, options = cases[i]
+        if errors[i]:
+            continue
+        schedule = schedules["slow" if generator in ("static", "static-qp") else "paper M"]
+        try:
+            walks[i].append(rollout(_make(generator, lipm, control_period, options), schedule))
+        except MpcwalkError as failure:  # a failing case never stops the benchmark
+            errors[i] = str(failure)
     results: list[TickCase] = []
     reference = None
-    for label, generator, solver, options in tqdm(
-        _cases(solvers, include_peer), desc="generators", disable=not progress
-    ):
+    for (label, generator, solver, _), case_walks, message in zip(cases, walks, errors):
         timing = "slow" if generator in ("static", "static-qp") else "paper M"
-        schedule = schedules[timing]
-        try:
-            walks = []
-            for _ in range(int(repeats)):
-                walks.append(rollout(_make(generator, lipm, control_period, options), schedule))
-        except MpcwalkError as error:  # a failing case never stops the benchmark
+        if message:
+            nan = float("nan")
             results.append(
-                TickCase(
-                    label,
-                    generator,
-                    solver,
-                    0,
-                    float("nan"),
-                    float("nan"),
-                    float("nan"),
-                    float("nan"),
-                    0,
-                    timing,
-                    str(error),
-                )
+                TickCase(label, generator, solver, 0, nan, nan, nan, nan, 0, timing, message)
             )
             continue
-        traj = walks[0]
-        ticks = [walk.tick_times[1:] * 1e6 for walk in walks]  # the first: lazy set-up
+        traj = case_walks[0]
+        ticks = [walk.tick_times[1:] * 1e6 for walk in case_walks]  # the first: lazy set-up
         median = float(np.median([np.median(t) for t in ticks]))
         if reference is None:
             reference = median
-        margins = support_margins(schedule, traj.times, traj.zmp)
+        margins = support_margins(schedules[timing], traj.times, traj.zmp)
         results.append(
             TickCase(
                 label=label,
@@ -212,7 +218,7 @@ def run_tick_benchmark(
                 zmp_margin_min_m=float(margins.min()),
                 failures=int(traj.nb_failures),
                 timing=timing,
-                repeats=len(walks),
+                repeats=len(case_walks),
             )
         )
     return results

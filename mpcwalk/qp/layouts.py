@@ -31,6 +31,13 @@ from mpcwalk.qp.schedule_tables import SupportSequence
 from mpcwalk.qp.shift import Block, shift_gather
 
 E = MAX_POLYGON_EDGES
+#: The zero state and the six unit states ``x0`` (3, 2), stacked (3, 2, 7): the bounds at
+#: them give the bounds' affine map of the state (:meth:`_Layout.bounds`).
+UNIT_STATES = np.zeros((3, 2, 7))
+UNIT_STATES[np.arange(6) % 3, np.arange(6) // 3, np.arange(1, 7)] = 1.0
+UNIT_STATES.setflags(write=False)
+#: Products of the rows' matrices with a transform kept (:meth:`CondensedLayout.dense_inequalities`).
+_KEPT_TRANSFORMS = 256
 
 
 class _Layout(ABC):
@@ -108,7 +115,8 @@ class _Layout(ABC):
             if tick is not None:
                 self._tick = tick
             self.eta = None
-            self.__dict__.pop("_maps", None)
+            for cached in ("_maps", "_transformed_rows", "_unit_free"):
+                self.__dict__.pop(cached, None)
             return True
         eta = np.asarray(eta, dtype=float)
         if self.eta is not None and np.array_equal(eta, self.eta):
@@ -126,7 +134,8 @@ class _Layout(ABC):
                 "zmp_tick": (c_tick @ A_dt, c_tick @ B_dt),
                 "com_tick": (A_dt[0], B_dt[0]),
             }
-        self.__dict__.pop("_maps", None)
+        for cached in ("_maps", "_transformed_rows", "_unit_free"):
+            self.__dict__.pop(cached, None)
         return True
 
     @abstractmethod
@@ -266,25 +275,61 @@ class CondensedLayout(_Layout):
         matrix = self.Pzu if kind == "zmp" else self.Ppu
         return Ahp[ti] * matrix[ti, tj][:, None, None]
 
-    def dense_inequalities(self, seq: SupportSequence) -> np.ndarray:
+    def dense_inequalities(
+        self, seq: SupportSequence, transform: np.ndarray | None = None
+    ) -> np.ndarray:
         """The inequality rows as a dense array, shape (m_ineq, n): the values of
         :meth:`A_values` where the pattern has them, zero elsewhere (built directly, without
-        the compressed-column detour)."""
+        the compressed-column detour); with ``transform`` (N, N), the rows times
+        ``blockdiag(transform, transform)`` (a row is a polygon normal times a row acting
+        on one axis's jerks, so only those N x N products are made, once per transform)."""
         N, parts = self.N, []
         for kind, _ in self.groups:
-            if kind.endswith("tick"):
-                rows = np.zeros((E, 2, N))
-                rows[:, :, 0] = seq.tick_A * self._tick[kind][1]
-            elif kind == "dcm":
-                rows = seq.zmp_A[-1][:, :, None] * self.Pxu[-1][None, None, :]
-            else:
-                A, matrix = (seq.com_A, self.Ppu) if kind == "com" else (seq.zmp_A, self.Pzu)
-                rows = A[..., None] * matrix[:, None, None, :]  # zero above the diagonal
+            normals, matrix = self._row_factors(kind, seq)
+            if transform is not None:
+                matrix = self._transformed(kind, matrix, transform)
+            rows = normals[..., None] * matrix[:, None, None, :]  # (k, E, 2, N)
             parts.append(rows.reshape(-1, 2 * N))
         dense = np.concatenate(parts) if parts else np.zeros((0, 2 * N))
         return dense + 0.0  # no negative zeros: the pattern's zeros are positive
 
+    def _row_factors(self, kind: str, seq: SupportSequence) -> tuple[np.ndarray, np.ndarray]:
+        """``(normals (k, E, 2), matrix (k, N))`` of the rows of ``kind``: row ``(i, r)``
+        is ``normals[i, r, a] * matrix[i]`` on the jerks of axis ``a``."""
+        if kind.endswith("tick"):  # the first jerk only
+            first = np.zeros((1, self.N))
+            first[0, 0] = self._tick[kind][1]
+            return seq.tick_A[None], first
+        if kind == "dcm":
+            return seq.zmp_A[-1:], self.Pxu[-1:]
+        return (seq.com_A, self.Ppu) if kind == "com" else (seq.zmp_A, self.Pzu)
+
+    def _transformed(self, kind: str, matrix: np.ndarray, transform: np.ndarray) -> np.ndarray:
+        """``matrix @ transform``, kept per kind and transform (a cost that cycles through a
+        few values, as the static gait's, comes back to the same transforms), dropped with
+        the matrices when the heights change."""
+        cache = self.__dict__.setdefault("_transformed_rows", {})
+        key = (kind, id(transform))
+        entry = cache.get(key)
+        if (
+            entry is not None
+            and entry[0] is transform
+            and (entry[1] is matrix or np.array_equal(entry[1], matrix))
+        ):
+            return entry[2]
+        if len(cache) >= _KEPT_TRANSFORMS:
+            del cache[next(iter(cache))]
+        product = matrix @ transform
+        cache[key] = (transform, matrix, product)  # holds the transform: its id stays its own
+        return product
+
     def _free(self, kind: str, x0: np.ndarray) -> np.ndarray:
+        if x0 is UNIT_STATES:  # the same for every support sequence: made once
+            cache = self.__dict__.setdefault("_unit_free", {})
+            free = cache.get(kind)
+            if free is None:
+                free = cache[kind] = self._free(kind, x0.copy())
+            return free
         if kind == "dcm":
             return np.einsum("k,kab->ab", self.Pxs[-1], x0)
         return np.einsum("ik,kab->iab", self.Pzs if kind == "zmp" else self.Pps, x0)

@@ -19,7 +19,7 @@ from mpcwalk.gait.height_profile import height_profile
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp.fixed_pattern import FixedPattern
-from mpcwalk.qp.layouts import CondensedLayout, SparseLayout
+from mpcwalk.qp.layouts import UNIT_STATES, CondensedLayout, SparseLayout
 from mpcwalk.qp.parameters import MpcParameters
 from mpcwalk.qp.program import Prediction
 from mpcwalk.qp.schedule_tables import ScheduleTables, SupportSequence
@@ -250,9 +250,7 @@ class WalkingQP:
         initial state ``x0.T.ravel()`` (the bounds are affine in it); a None matrix for
         bounds that do not depend on it. Computed once per support sequence, in one pass
         over the zero state and the six unit states, so that a tick costs two products."""
-        states = np.zeros((3, 2, 7))
-        states[np.arange(6) % 3, np.arange(6) // 3, np.arange(1, 7)] = 1.0
-        lower, upper = self.layout.bounds(states, supports)
+        lower, upper = self.layout.bounds(UNIT_STATES, supports)
         return (*_affine(lower), *_affine(upper))
 
     def _reference(self, value, name: str) -> np.ndarray | None:
@@ -362,11 +360,25 @@ class WalkingQP:
             raise ConfigurationError(
                 "dense_arrays() needs a QP without equality rows (formulation='dense')."
             )
-        P = self._cached(
+        G = self._cached("G_dense", self.A_version, self._dense_inequalities)
+        return self.dense_cost(), self.q, G, self.u
+
+    def dense_cost(self) -> np.ndarray:
+        """The full symmetric ``P`` as a dense array (cached per version)."""
+        return self._cached(
             "P_dense", self.P_version, lambda: self.layout.P_pattern.dense(self.P_data)
         )
-        G = self._cached("G_dense", self.A_version, self._dense_inequalities)
-        return P, self.q, G, self.u
+
+    def whitened_inequalities(self, transform: np.ndarray) -> np.ndarray:
+        """The dense inequality rows of the condensed layout times
+        ``blockdiag(transform, transform)``, ``transform`` (N, N) acting on one axis's jerks
+        (a back-end's whitening of the cost, whose two axis blocks are the same)."""
+        layout = self.layout
+        if not isinstance(layout, CondensedLayout):
+            raise ConfigurationError(
+                "whitened_inequalities() needs the condensed layout (formulation='dense')."
+            )
+        return layout.dense_inequalities(self.supports, transform)
 
     def _dense_inequalities(self) -> np.ndarray:
         layout = self.layout

@@ -68,6 +68,7 @@ class DaqpSolver(QPSolver):
         self._row_shape = (0, 0)
         self._whitening: _Whitening | None = None  # of the fixed QP's P (None: not whitened)
         self._whitenings = _Whitenings()
+        self._rows = np.zeros((0, 0))  # the whitened rows DAQP holds
 
     def reset(self) -> None:
         self._model = self._qp = self._previous = self._whitening = None
@@ -99,60 +100,88 @@ class DaqpSolver(QPSolver):
         qp.require_update()
         if qp.m_eq:
             return self._solve_rows(qp)
+        if qp.fixed_pattern:
+            return self._solve_fixed(qp)
+        # A QP rebuilt every tick: set up anew, from the shifted previous solution.
         start = time.perf_counter()
         P, q, G, h = qp.dense_arrays()  # DAQP reads bounds >= 1e30 (and inf) as none
-        if not h.flags.writeable:  # DAQP takes writable buffers only
-            h = h.copy()
-        fixed = bool(qp.fixed_pattern)
-        versions = (getattr(qp, "P_version", -1), getattr(qp, "A_version", -1))
-        ready = True
-        if not fixed:
-            # A QP rebuilt every tick: set up anew, from the shifted previous solution.
-            primal_start = None
-            if self._previous is not None and self._qp is qp:
-                primal_start = qp.shift_primal(self._previous, shift)
-            self._whitening = None
-            ready = self._setup(P, q, G, h, primal_start)
-        else:
-            model = self._model if self._qp is qp else None
-            W = self._whitening
-            if model is None or versions[0] != self._versions[0]:
-                W = self._whitenings.get(P)
-                if W is None or self._whitening is None:  # DAQP factorises P itself
-                    model = None
-            self._whitening = W
+        primal_start = None
+        if self._previous is not None and self._qp is qp:
+            primal_start = qp.shift_primal(self._previous, shift)
+        self._qp, self._whitening = qp, None
+        ready = self._setup(P, q, G, _writable(h), primal_start)
+        return self._solved(ready, start, lambda x, z: _residuals(P, q, G, h, x, z))
+
+    def _solve_fixed(self, qp) -> QPResult:
+        """A QP whose matrices keep their values from tick to tick (see the module's
+        documentation): whitened, hot-started; set up anew only for a new problem or a ``P``
+        that is not positive definite."""
+        start = time.perf_counter()
+        versions = (qp.P_version, qp.A_version)
+        # a QP that builds its rows times a factor itself (two identical axis blocks)
+        structured = hasattr(qp, "whitened_inequalities")
+        model = self._model if self._qp is qp else None
+        W = self._whitening
+        if model is None or versions[0] != self._versions[0]:
+            W = self._whitenings.get(qp.dense_cost() if structured else qp.dense_arrays()[0])
+            if W is None or self._whitening is None:  # DAQP factorises P itself
+                model = None
+        self._qp, self._whitening = qp, W
+        if W is None:
+            P, q, G, h = qp.dense_arrays()
+            h = _writable(h)
             if model is None:
-                if W is None:
-                    ready = self._setup(P, q, G, h)
-                else:
-                    ready = self._setup(np.eye(len(q)), W.inverse.T @ q, W.rows(G), h)
+                ready = self._setup(P, q, G, h)
+            elif versions != self._versions:  # new rows: the working set stays
+                ready = model.update(A=G, f=q, bupper=h) >= 0
+            else:  # (no rows: DAQP takes no empty bound vector)
+                ready = model.update(f=q, bupper=h if len(h) else None) >= 0
+            self._versions = versions
+            return self._solved(ready, start, lambda x, z: _residuals(P, q, G, h, x, z))
+        if structured:
+            q, h = qp.q, _writable(qp.u)
+        else:
+            _, q, _, h = qp.dense_arrays()
+            h = _writable(h)
+        f = W.inverse.T @ q
+        if model is None or versions != self._versions:  # new rows: the working set stays
+            if structured and W.axis is not None:
+                self._rows = qp.whitened_inequalities(W.axis)
             else:
-                f = q if W is None else W.inverse.T @ q
-                if versions != self._versions:  # new rows (or a new P): the working set stays
-                    flag = model.update(A=G if W is None else W.rows(G), f=f, bupper=h)
-                else:  # (no rows: DAQP takes no empty bound vector)
-                    flag = model.update(f=f, bupper=h if len(h) else None)
-                ready = flag >= 0
-        self._qp, self._versions = qp, versions
+                self._rows = W.rows(qp.dense_arrays()[2])
+            if model is None:
+                ready = self._setup(np.eye(len(q)), f, self._rows, h)
+            else:
+                ready = model.update(A=self._rows, f=f, bupper=h) >= 0
+        else:  # (no rows: DAQP takes no empty bound vector)
+            ready = model.update(f=f, bupper=h if len(h) else None) >= 0
+        self._versions = versions
+        M = self._rows
+
+        def residuals(v, z):
+            # in the whitened variables: M v = G x, R^T (v + f + M^T z) = P x + q + G^T z
+            primal = float(max(0.0, np.max(M @ v - h))) if len(h) else 0.0
+            dual = float(np.max(np.abs(W.factor.T @ (v + f + M.T @ z))))
+            return primal, dual, float(abs(v @ v + f @ v + h @ z))
+
+        return self._solved(ready, start, residuals, W.inverse)
+
+    def _solved(self, ready: bool, start: float, residuals, back=None) -> QPResult:
+        """Solve the problem set up (``ready``) and build the result: ``residuals(x, z)``
+        in DAQP's variables, ``back`` the map from them to the QP's (None: the same)."""
         if not ready or self._model is None:
             self._model = self._previous = None
             return failure(self.name, "setup failed", time.perf_counter() - start)
-        x, _, exitflag, info = self._model.solve()
+        v, _, exitflag, info = self._model.solve()
         elapsed = time.perf_counter() - start
         if exitflag <= 0:
             self._model = self._previous = None  # start the next tick from scratch
             return failure(self.name, f"exitflag {exitflag}", elapsed)
-        if fixed and self._whitening is not None:
-            x = self._whitening.inverse @ x  # back from v = R x
-        x = np.array(x, dtype=float)
+        v = np.array(v, dtype=float)
         z = np.array(info["lam"], dtype=float)
+        x = v if back is None else back @ v
         self._previous = x
-        Px = P @ x
-        Gx = G @ x
-        primal = float(max(0.0, np.max(Gx - h))) if len(h) else 0.0
-        dual = float(np.max(np.abs(Px + q + G.T @ z)))
-        gap = float(abs(x @ Px + q @ x + h @ z))
-        return self._found(x, z, elapsed, info, (primal, dual, gap))
+        return self._found(x, z, elapsed, info, residuals(v, z))
 
     def _found(self, x, z, elapsed: float, info, residuals) -> QPResult:
         """The result of a solve DAQP found, with its (primal, dual, gap) residuals."""
@@ -215,6 +244,8 @@ class _Whitening:
         ends = np.flatnonzero(np.maximum.accumulate(last) <= np.arange(n)) + 1
         self.inverse = np.zeros((n, n))
         """``R^-1``, shape (n, n)."""
+        self.factor = np.zeros((n, n))
+        """``R``, shape (n, n)."""
         self.blocks: list[tuple[slice, np.ndarray]] = []
         for start, stop in zip(np.concatenate([[0], ends[:-1]]), ends):
             lower = np.linalg.cholesky(P[start:stop, start:stop])
@@ -223,7 +254,17 @@ class _Whitening:
                 raise np.linalg.LinAlgError("singular Cholesky factor")
             block = slice(int(start), int(stop))
             self.inverse[block, block] = inverse_lower.T
+            self.factor[block, block] = lower.T
             self.blocks.append((block, self.inverse[block, block]))
+        half = n // 2
+        two_axes = [(b.start, b.stop) for b, _ in self.blocks] == [(0, half), (half, n)]
+        self.axis: np.ndarray | None = (
+            self.blocks[0][1]
+            if two_axes and np.array_equal(P[:half, :half], P[half:, half:])
+            else None
+        )
+        """The factor of one axis when ``P`` is two identical axis blocks (the walking QP's:
+        the axes share the cost), else None."""
 
     def rows(self, G: np.ndarray) -> np.ndarray:
         """``G R^-1``."""
@@ -255,3 +296,17 @@ class _Whitenings:
             except np.linalg.LinAlgError:
                 self._by_matrix[key] = None
         return self._by_matrix[key]
+
+
+def _writable(h: np.ndarray) -> np.ndarray:
+    """``h`` as DAQP takes it (a writable buffer)."""
+    return h if h.flags.writeable else h.copy()
+
+
+def _residuals(P, q, G, h, x, z) -> tuple[float, float, float]:
+    """Primal residual, dual residual and duality gap of ``(x, z)`` for the QP ``(P, q, G,
+    h)``."""
+    Px = P @ x
+    primal = float(max(0.0, np.max(G @ x - h))) if len(h) else 0.0
+    dual = float(np.max(np.abs(Px + q + G.T @ z)))
+    return primal, dual, float(abs(x @ Px + q @ x + h @ z))
