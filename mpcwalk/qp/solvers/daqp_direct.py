@@ -8,11 +8,14 @@ each tick then only pushes the vectors: no refactorisation, and the solve starts
 active set of the previous tick (hot start). Such a QP is handed to DAQP whitened: with
 ``P = R^T R`` factorised here (once per distinct ``P``, kept for the next time it comes
 back), DAQP solves for ``v = R x`` with an identity cost, the gradient ``R^-T q`` and the
-rows ``G R^-1``. A new ``A`` is then one small BLAS product here, where DAQP's own transform
+rows ``G R^-1``. A new ``A`` is then a product here (the walking QP makes its whitened rows
+itself, ``whitened_inequalities``, from one axis's factor when its two axes share the cost;
+other QPs, one small BLAS product per diagonal block of ``P``), where DAQP's own transform
 of the rows takes several times longer, and a new ``P`` (the static gait's CoM weight moving
 along the horizon) is a new ``A`` and gradient only: the working set is kept in both cases.
-QPs rebuilt every tick (the footstep-adaptive
-MPC's) are set up anew each tick, with the shifted previous solution as the primal start.
+The residuals are taken in the whitened variables (``M v = G x``, ``R^T (v + f + M^T z) =
+P x + q + G^T z``). QPs rebuilt every tick (the footstep-adaptive MPC's) are set up anew
+each tick, with the shifted previous solution as the primal start.
 A dense QP with equality rows that offers them (``dense_rows()``: the inverse dynamics') is
 solved in one call, the equalities held in the working set for good (DAQP's sense 5).
 """
