@@ -25,23 +25,21 @@ import numpy as np
 
 from mpcwalk.gait.contact_schedule import MAX_POLYGON_EDGES
 from mpcwalk.models.cart_table import CartTable
+from mpcwalk.qp.affine_bounds import UNIT_STATES
 from mpcwalk.qp.fixed_pattern import FixedPattern, stack_patterns
 from mpcwalk.qp.parameters import MpcParameters
 from mpcwalk.qp.schedule_tables import SupportSequence
 from mpcwalk.qp.shift import Block, shift_gather
 
 E = MAX_POLYGON_EDGES
-#: The zero state and the six unit states ``x0`` (3, 2), stacked (3, 2, 7): the bounds at
-#: them give the bounds' affine map of the state (:meth:`_Layout.bounds`).
-UNIT_STATES = np.zeros((3, 2, 7))
-UNIT_STATES[np.arange(6) % 3, np.arange(6) // 3, np.arange(1, 7)] = 1.0
-UNIT_STATES.setflags(write=False)
 #: Products of the rows' matrices with a transform kept (:meth:`CondensedLayout.dense_inequalities`).
 _KEPT_TRANSFORMS = 256
+#: Cost matrices kept per distinct CoM weights (:meth:`Layout.P_data`).
+_KEPT_COSTS = 64
 
 
-class _Layout(ABC):
-    """Shared parts of both layouts.
+class Layout(ABC):
+    """Shared parts of both layouts (the sparse one: :mod:`mpcwalk.qp.sparse_layout`).
 
     Args:
         model: Cart-table model at the sampling period.
@@ -115,7 +113,7 @@ class _Layout(ABC):
             if tick is not None:
                 self._tick = tick
             self.eta = None
-            for cached in ("_maps", "_transformed_rows", "_unit_free"):
+            for cached in ("_maps", "_transformed_rows", "_unit_free", "_P_by_weights"):
                 self.__dict__.pop(cached, None)
             return True
         eta = np.asarray(eta, dtype=float)
@@ -134,7 +132,7 @@ class _Layout(ABC):
                 "zmp_tick": (c_tick @ A_dt, c_tick @ B_dt),
                 "com_tick": (A_dt[0], B_dt[0]),
             }
-        for cached in ("_maps", "_transformed_rows", "_unit_free"):
+        for cached in ("_maps", "_transformed_rows", "_unit_free", "_P_by_weights"):
             self.__dict__.pop(cached, None)
         return True
 
@@ -152,8 +150,27 @@ class _Layout(ABC):
         alone give: (N, 2, B) per sample, (2, B) for the terminal DCM."""
 
     @abstractmethod
+    def bounds(self, x0, seq: SupportSequence) -> tuple[np.ndarray, np.ndarray]:
+        """``(l, u)`` of every row for the state ``x0`` (3, 2), or for ``B`` states at once:
+        ``x0`` (3, 2, B), ``l`` and ``u`` (m, B)."""
+
+    @abstractmethod
     def P_values(self, com_weights: np.ndarray) -> np.ndarray:
         """Cost matrix values in coordinate order."""
+
+    def P_data(self, com_weights: np.ndarray) -> np.ndarray:
+        """CSC values of ``P`` for the CoM weights of the samples (read-only), made once per
+        distinct weights (with ``com_weight_single_support_only`` they follow the single
+        supports along the horizon, a few patterns that come back every step) and heights."""
+        cache = self.__dict__.setdefault("_P_by_weights", {})
+        key = com_weights.tobytes()
+        data = cache.get(key)
+        if data is None:
+            if len(cache) >= _KEPT_COSTS:
+                del cache[next(iter(cache))]
+            data = cache[key] = self.P_pattern.data(self.P_values(com_weights))
+            data.setflags(write=False)
+        return data
 
     def _finish(
         self,
@@ -238,7 +255,7 @@ class _Layout(ABC):
         return (1.0 - w) * vector[i0] + w * vector[i1]
 
 
-class CondensedLayout(_Layout):
+class CondensedLayout(Layout):
     """Decision variables: the jerks only, ``x = [U_x (N), U_y (N)]``."""
 
     formulation = "dense"
@@ -375,103 +392,3 @@ class CondensedLayout(_Layout):
     def bounds(self, x0, seq: SupportSequence) -> tuple[np.ndarray, np.ndarray]:
         upper = self.upper_bounds(x0, seq)
         return np.full(upper.shape, -np.inf), upper
-
-
-class SparseLayout(_Layout):
-    """Decision variables: jerks and states, ``x = [U_x, U_y, X_x, X_y]``
-    with ``X_a`` the states ``[c, c_dot, c_ddot]`` at samples 1..N (3N
-    values per axis); the dynamics are equality rows."""
-
-    formulation = "sparse"
-
-    def __init__(
-        self, model: CartTable, parameters: MpcParameters, control_period: float | None = None
-    ) -> None:
-        super().__init__(model, parameters, control_period)
-        N = self.N
-        a = np.arange(2).reshape(2, 1, 1)
-        i = np.arange(N).reshape(1, N, 1)
-        k = np.arange(3).reshape(1, 1, 3)
-        X = self._X
-        eq_row = a * 3 * N + 3 * i + k  # (2, N, 3)
-        Ak, Am = np.nonzero(model.A)
-        ident = (eq_row, X(a, i, k))
-        ra = a[..., None] * 3 * N + 3 * i[:, 1:, :, None] + Ak.reshape(1, 1, -1, 1)
-        transition = (ra, X(a[..., None], i[:, :-1, :, None], Am.reshape(1, 1, -1, 1)))
-        inp = (eq_row, np.broadcast_to(a * N + i, eq_row.shape))
-        self._eq_values = np.concatenate(
-            [
-                np.ones(6 * N),
-                np.tile(-model.A[Ak, Am], 2 * (N - 1)),
-                np.tile(-model.B, 2 * N),
-            ]
-        )
-        self._eq_dual_blocks: list[Block] = [(0, (2, N, 3), 1)]
-        # Cost: jerk diagonal, then a full 3x3 block per (axis, sample).
-        u_idx = np.arange(2 * N)
-        km = np.arange(3)
-        P_rows = X(a[..., None], i[..., None], km.reshape(1, 1, 3, 1))
-        P_cols = X(a[..., None], i[..., None], km.reshape(1, 1, 1, 3))
-        P_coords = stack_patterns([(u_idx, u_idx), (P_rows + 0 * P_cols, P_cols + 0 * P_rows)])
-        self._finish(8 * N, 6 * N, P_coords, [ident, transition, inp])
-        self.primal_blocks: list[Block] = [(0, (2, N), 1), (2 * N, (2, N, 3), 1)]
-
-    def _X(self, a, i, k):
-        """Column of state component ``k`` of axis ``a`` at sample ``i + 1``."""
-        return 2 * self.N + a * 3 * self.N + 3 * i + k
-
-    def _entries(self, kind: str):
-        N = self.N
-        a, r = np.arange(2).reshape(1, 1, 2, 1), np.arange(E).reshape(1, E, 1, 1)
-        i = np.arange(N).reshape(N, 1, 1, 1)
-        if kind == "dcm":  # (E, 2, 2): position and velocity at the last sample
-            cols = self._X(a, N - 1, np.array([0, 1])) + 0 * r
-            return np.broadcast_to(r, cols.shape), cols
-        comps = np.array([0, 2]) if kind == "zmp" else np.array([0])
-        cols = self._X(a, i, comps) + 0 * r
-        return np.broadcast_to(i * E + r, cols.shape), cols
-
-    def _values(self, kind: str, Ahp: np.ndarray) -> np.ndarray:
-        if kind == "dcm":
-            return Ahp[-1][..., None] * np.array([1.0, 1.0 / self.omega])
-        if kind == "zmp":
-            if self.eta is None:
-                return Ahp[..., None] * self.C[[0, 2]]
-            return Ahp[..., None] * self.sample_C[:, None, None, [0, 2]]
-        return Ahp
-
-    def _free(self, kind: str, x0: np.ndarray) -> np.ndarray:
-        batch = x0.shape[2:]
-        return np.zeros((2, *batch)) if kind == "dcm" else np.zeros((self.N, 2, *batch))
-
-    def P_values(self, com_weights: np.ndarray) -> np.ndarray:
-        p, s, N = self.parameters, 2.0 * self.cost_scale, self.N
-        if self.eta is None:
-            block = p.zmp_weight * np.outer(self.C, self.C)
-            block[1, 1] += p.velocity_weight
-            blocks = np.broadcast_to(block, (2, N, 3, 3)).copy()
-        else:
-            per_sample = p.zmp_weight * np.einsum("ij,ik->ijk", self.sample_C, self.sample_C)
-            per_sample[:, 1, 1] += p.velocity_weight
-            blocks = np.broadcast_to(per_sample, (2, N, 3, 3)).copy()
-        blocks[:, :, 0, 0] += com_weights[None, :]
-        return s * np.concatenate([np.full(2 * N, p.jerk_weight), blocks.ravel()])
-
-    def q(self, x0, zmp_ref, velocity_ref, com_ref, com_weights) -> np.ndarray:
-        p, s, N = self.parameters, 2.0 * self.cost_scale, self.N
-        gx = -p.zmp_weight * zmp_ref.T[..., None] * (self.C if self.eta is None else self.sample_C)
-        if p.velocity_weight:
-            gx[:, :, 1] -= p.velocity_weight * velocity_ref.T
-        if com_ref is not None:  # None: no CoM term (zero weights)
-            gx[:, :, 0] -= com_weights[None, :] * com_ref.T
-        return s * np.concatenate([np.zeros(2 * N), gx.ravel()])
-
-    def bounds(self, x0, seq: SupportSequence) -> tuple[np.ndarray, np.ndarray]:
-        x0 = np.asarray(x0, dtype=float)
-        batch = x0.shape[2:]
-        states = np.zeros((2, self.N, 3, *batch))
-        states[:, 0] = np.einsum("kl,la...->ak...", self.model.A, x0)
-        eq = states.reshape(6 * self.N, *batch)
-        u_ineq = self.upper_bounds(x0, seq)
-        lower = np.full((self.m_ineq, *batch), -np.inf)
-        return np.concatenate([eq, lower]), np.concatenate([eq, u_ineq])

@@ -18,11 +18,13 @@ from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.gait.height_profile import height_profile
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.lipm import LIPM
+from mpcwalk.qp.affine_bounds import affine_bounds
 from mpcwalk.qp.fixed_pattern import FixedPattern
-from mpcwalk.qp.layouts import UNIT_STATES, CondensedLayout, SparseLayout
+from mpcwalk.qp.layouts import CondensedLayout
 from mpcwalk.qp.parameters import MpcParameters
 from mpcwalk.qp.program import Prediction
 from mpcwalk.qp.schedule_tables import ScheduleTables, SupportSequence
+from mpcwalk.qp.sparse_layout import SparseLayout
 
 FORMULATIONS = ("dense", "sparse")
 #: Times within this of a phase boundary, up to round-off, belong to the new
@@ -96,8 +98,7 @@ class WalkingQP:
         self._com_weights = np.full(self.N, parameters.com_weight)
         self.supports = SupportSequence.empty(self.N)
         """Half-planes of the inequality rows as last updated."""
-        self._P_by_weights: dict[bytes, np.ndarray] = {}
-        self.P_data = self._P_data(self._com_weights)
+        self.P_data = layout.P_data(self._com_weights)
         """Values of the full symmetric ``P`` in CSC order."""
         self.q = np.zeros(self.n)
         self.l = np.full(self.m, -np.inf)
@@ -163,8 +164,7 @@ class WalkingQP:
         changed = False
         if self._set_heights(schedule, t, times):
             self._key = None  # the ZMP rows changed: every value is recomputed
-            self._P_by_weights.clear()
-            self.P_data = self._P_data(self._com_weights)
+            self.P_data = layout.P_data(self._com_weights)
             self.P_version += 1
             changed = True
         if key != self._key:
@@ -185,10 +185,10 @@ class WalkingQP:
                 weights = p.com_weight * tables.single[idx]
                 if not np.array_equal(weights, self._com_weights):
                     self._com_weights = weights
-                    self.P_data = self._P_data(weights)
+                    self.P_data = layout.P_data(weights)
                     self.P_version += 1
                     changed = True
-            self._bounds_map = self._affine_bounds(self.supports)
+            self._bounds_map = affine_bounds(layout, self.supports)
         zmp_ref = self._reference(zmp_reference, "zmp_reference")
         if zmp_ref is None:
             zmp_ref = tables.zmp_reference(times) if p.zmp_weight else np.zeros((N, 2))
@@ -205,20 +205,6 @@ class WalkingQP:
         self.u = u0 if Ku is None else u0 + Ku @ state
         self.x0, self.time, self.sample_times = x0.copy(), float(t), times
         return changed
-
-    def _P_data(self, com_weights: np.ndarray) -> np.ndarray:
-        """CSC values of ``P`` for the CoM weights of the samples: computed once per distinct
-        weights (with ``com_weight_single_support_only`` they follow the single supports
-        along the horizon, a few patterns that come back every step) and heights."""
-        key = com_weights.tobytes()
-        data = self._P_by_weights.get(key)
-        if data is None:
-            if len(self._P_by_weights) >= _KEPT_COSTS:
-                del self._P_by_weights[next(iter(self._P_by_weights))]
-            data = self.layout.P_pattern.data(self.layout.P_values(com_weights))
-            data.setflags(write=False)
-            self._P_by_weights[key] = data
-        return data
 
     def _set_heights(self, schedule: ContactSchedule, t: float, times: np.ndarray) -> bool:
         """The layout's ZMP rows for the CoM height the schedule's footsteps give over the
@@ -244,14 +230,6 @@ class WalkingQP:
         """Average walking velocity of the step at each sample of a tick at ``t`` [s]
         (``schedule.reference_velocity`` at the sample times), shape (N, 2), in [m/s]."""
         return self.tables(schedule).reference_velocity(t + self.sample_offsets)
-
-    def _affine_bounds(self, supports: SupportSequence):
-        """``(l0, Kl, u0, Ku)`` with ``l = l0 + Kl s`` and ``u = u0 + Ku s``, ``s`` the
-        initial state ``x0.T.ravel()`` (the bounds are affine in it); a None matrix for
-        bounds that do not depend on it. Computed once per support sequence, in one pass
-        over the zero state and the six unit states, so that a tick costs two products."""
-        lower, upper = self.layout.bounds(UNIT_STATES, supports)
-        return (*_affine(lower), *_affine(upper))
 
     def _reference(self, value, name: str) -> np.ndarray | None:
         if value is None:
@@ -416,24 +394,3 @@ class WalkingQP:
     def shift_dual(self, y: np.ndarray, samples: float) -> np.ndarray:
         """Dual vector (OSQP form) shifted by ``samples`` sampling periods."""
         return self.layout.shift(np.asarray(y, dtype=float), "dual", samples)
-
-
-#: Cost matrices kept per distinct CoM weights.
-_KEPT_COSTS = 64
-
-
-def _affine(values: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
-    """``(v0, K)`` of bounds ``values`` (m, 7) at the zero state and the six unit states:
-    ``v0`` (read-only) and ``K`` (m, 6) with ``v = v0 + K s``, None when no bound depends
-    on the state; an infinite bound stays infinite (its row of ``K`` is zero)."""
-    v0 = values[:, 0].copy()
-    v0.setflags(write=False)
-    finite = np.isfinite(v0)
-    if not finite.any():
-        return v0, None
-    if finite.all():
-        K = values[:, 1:] - v0[:, None]
-    else:
-        K = np.zeros((len(v0), 6))
-        K[finite] = values[finite, 1:] - v0[finite, None]
-    return v0, K if K.any() else None
