@@ -3,26 +3,17 @@
 The bounds of the walking QP's rows are affine in the initial state ``s = x0.T.ravel()``
 (the cart-table states of both axes): ``l = l0 + Kl s`` and ``u = u0 + Ku s``. The map is
 made once per support sequence from the bounds at the zero state and the six unit states
-(:data:`UNIT_STATES`, one pass of :meth:`~mpcwalk.qp.layouts.Layout.bounds`), so that a
+(:data:`~mpcwalk.qp.layouts.UNIT_STATES`, one pass of :meth:`~mpcwalk.qp.layouts.Layout.bounds`), so that a
 tick costs two products.
 """
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 
+from mpcwalk.qp.layouts import UNIT_STATES, Layout
 from mpcwalk.qp.schedule_tables import SupportSequence
 
-if TYPE_CHECKING:
-    from mpcwalk.qp.layouts import Layout
 
-#: The zero state and the six unit states ``x0`` (3, 2), stacked (3, 2, 7).
-UNIT_STATES = np.zeros((3, 2, 7))
-UNIT_STATES[np.arange(6) % 3, np.arange(6) // 3, np.arange(1, 7)] = 1.0
-UNIT_STATES.setflags(write=False)
-
-
-def affine_bounds(layout: "Layout", supports: SupportSequence) -> tuple:
+def affine_bounds(layout: Layout, supports: SupportSequence) -> tuple:
     """``(l0, Kl, u0, Ku)`` of the bounds of ``layout``'s rows for ``supports``: ``l0`` and
     ``u0`` (m,) read-only, ``Kl`` and ``Ku`` (m, 6), a None matrix for bounds that do not
     depend on the state (the same operations as seven calls of ``bounds``, to the bit)."""

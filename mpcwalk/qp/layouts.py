@@ -25,13 +25,17 @@ import numpy as np
 
 from mpcwalk.gait.contact_schedule import MAX_POLYGON_EDGES
 from mpcwalk.models.cart_table import CartTable
-from mpcwalk.qp.affine_bounds import UNIT_STATES
 from mpcwalk.qp.fixed_pattern import FixedPattern, stack_patterns
 from mpcwalk.qp.parameters import MpcParameters
 from mpcwalk.qp.schedule_tables import SupportSequence
 from mpcwalk.qp.shift import Block, shift_gather
 
 E = MAX_POLYGON_EDGES
+#: The zero state and the six unit states ``x0`` (3, 2), stacked (3, 2, 7): the bounds at
+#: them give the bounds' affine map of the state (:mod:`mpcwalk.qp.affine_bounds`).
+UNIT_STATES = np.zeros((3, 2, 7))
+UNIT_STATES[np.arange(6) % 3, np.arange(6) // 3, np.arange(1, 7)] = 1.0
+UNIT_STATES.setflags(write=False)
 #: Products of the rows' matrices with a transform kept (:meth:`CondensedLayout.dense_inequalities`).
 _KEPT_TRANSFORMS = 256
 #: Cost matrices kept per distinct CoM weights (:meth:`Layout.P_data`).
