@@ -26,6 +26,7 @@ import numpy as np
 from mpcwalk.gait.contact_schedule import MAX_POLYGON_EDGES
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.qp.fixed_pattern import FixedPattern, stack_patterns
+from mpcwalk.qp.kept import kept
 from mpcwalk.qp.parameters import MpcParameters
 from mpcwalk.qp.schedule_tables import SupportSequence
 from mpcwalk.qp.shift import Block, shift_gather
@@ -117,8 +118,7 @@ class Layout(ABC):
             if tick is not None:
                 self._tick = tick
             self.eta = None
-            for cached in ("_maps", "_transformed_rows", "_unit_free", "_P_by_weights"):
-                self.__dict__.pop(cached, None)
+            self._forget_cached()
             return True
         eta = np.asarray(eta, dtype=float)
         if self.eta is not None and np.array_equal(eta, self.eta):
@@ -136,9 +136,13 @@ class Layout(ABC):
                 "zmp_tick": (c_tick @ A_dt, c_tick @ B_dt),
                 "com_tick": (A_dt[0], B_dt[0]),
             }
+        self._forget_cached()
+        return True
+
+    def _forget_cached(self) -> None:
+        """Drop what was made from the ZMP rows' matrices (the heights changed them)."""
         for cached in ("_maps", "_transformed_rows", "_unit_free", "_P_by_weights"):
             self.__dict__.pop(cached, None)
-        return True
 
     @abstractmethod
     def _entries(self, kind: str) -> tuple[np.ndarray, np.ndarray]:
@@ -166,15 +170,14 @@ class Layout(ABC):
         """CSC values of ``P`` for the CoM weights of the samples (read-only), made once per
         distinct weights (with ``com_weight_single_support_only`` they follow the single
         supports along the horizon, a few patterns that come back every step) and heights."""
-        cache = self.__dict__.setdefault("_P_by_weights", {})
-        key = com_weights.tobytes()
-        data = cache.get(key)
-        if data is None:
-            if len(cache) >= _KEPT_COSTS:
-                del cache[next(iter(cache))]
-            data = cache[key] = self.P_pattern.data(self.P_values(com_weights))
+
+        def make() -> np.ndarray:
+            data = self.P_pattern.data(self.P_values(com_weights))
             data.setflags(write=False)
-        return data
+            return data
+
+        cache = self.__dict__.setdefault("_P_by_weights", {})
+        return kept(cache, com_weights.tobytes(), make, _KEPT_COSTS)
 
     def _finish(
         self,
@@ -327,22 +330,13 @@ class CondensedLayout(Layout):
 
     def _transformed(self, kind: str, matrix: np.ndarray, transform: np.ndarray) -> np.ndarray:
         """``matrix @ transform``, kept per kind and transform (a cost that cycles through a
-        few values, as the static gait's, comes back to the same transforms), dropped with
-        the matrices when the heights change."""
+        few values, as the static gait's, comes back to the same transforms); a kind's
+        matrix changes only with the heights, which drop them all."""
         cache = self.__dict__.setdefault("_transformed_rows", {})
+        # the entry holds the transform, so that its id stays its own
         key = (kind, id(transform))
-        entry = cache.get(key)
-        if (
-            entry is not None
-            and entry[0] is transform
-            and (entry[1] is matrix or np.array_equal(entry[1], matrix))
-        ):
-            return entry[2]
-        if len(cache) >= _KEPT_TRANSFORMS:
-            del cache[next(iter(cache))]
-        product = matrix @ transform
-        cache[key] = (transform, matrix, product)  # holds the transform: its id stays its own
-        return product
+        entry = kept(cache, key, lambda: (transform, matrix @ transform), _KEPT_TRANSFORMS)
+        return entry[1]
 
     def _free(self, kind: str, x0: np.ndarray) -> np.ndarray:
         if x0 is UNIT_STATES:  # the same for every support sequence: made once

@@ -27,6 +27,7 @@ import numpy as np
 import scipy.linalg
 
 from mpcwalk.exceptions import ConfigurationError
+from mpcwalk.qp.kept import kept
 from mpcwalk.qp.program import QuadraticProgram
 from mpcwalk.qp.result import QPResult
 from mpcwalk.qp.solvers.base import QPSolver, failure
@@ -290,15 +291,14 @@ class _Whitenings:
 
     def get(self, P: np.ndarray) -> _Whitening | None:
         """The whitening of ``P``, None when ``P`` is not positive definite."""
-        key = P.tobytes()
-        if key not in self._by_matrix:
-            if len(self._by_matrix) >= self._SIZE:
-                del self._by_matrix[next(iter(self._by_matrix))]
+
+        def make() -> _Whitening | None:
             try:
-                self._by_matrix[key] = _Whitening(P)
+                return _Whitening(P)
             except np.linalg.LinAlgError:
-                self._by_matrix[key] = None
-        return self._by_matrix[key]
+                return None
+
+        return kept(self._by_matrix, P.tobytes(), make, self._SIZE)
 
 
 def _writable(h: np.ndarray) -> np.ndarray:
