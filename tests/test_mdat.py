@@ -183,7 +183,9 @@ def shipped_plan(name, **options):
     return waypoints, targets, plan
 
 
-@pytest.mark.parametrize("name, nb_steps, final_yaw", [("straight", 16, 0.0), ("turning", 11, 0.0)])
+@pytest.mark.parametrize(
+    "name, nb_steps, final_yaw", [("straight", 16, 0.0), ("turning", 11, 0.0), ("ramp", 16, 0.0)]
+)
 def test_shipped_paths_give_valid_unclamped_plans(name, nb_steps, final_yaw):
     from mpcwalk.gait.contact_schedule import ContactSchedule
 
@@ -227,8 +229,40 @@ def test_generator_reproduces_the_shipped_files(tmp_path, monkeypatch):
 
     monkeypatch.setattr(module, "HERE", tmp_path)
     module.main()
-    for name in ("straight", "turning"):
+    for name in ("straight", "turning", "ramp"):
         assert (tmp_path / f"{name}.mdat").read_text() == (PAPER_A / f"{name}.mdat").read_text()
+    assert (tmp_path / "ramp.toml").read_text() == (PAPER_A / "ramp.toml").read_text()
+
+
+def test_the_3d_path_rests_every_sole_on_its_ramp():
+    """ramp.mdat is the straight path in 3D: every sole at the height of the ground under
+    its centre in ramp.toml (to the file's micrometre) and pitched as that ground, heights
+    and tilted quaternions in the file; up 7 cm and down again."""
+    from mpcwalk.experiments.paper_a.make_paths import ATLAS_LEG, ATLAS_SOLE
+    from mpcwalk.robot import load_robot
+    from mpcwalk.terrain import TerrainReach, read_terrain
+
+    terrain = read_terrain(PAPER_A / "ramp.toml")
+    ramp, straight = read_mdat(PAPER_A / "ramp.mdat"), read_mdat(PAPER_A / "straight.mdat")
+    assert len(ramp) == len(straight)
+    reach = TerrainReach.for_leg(*ATLAS_SOLE, ATLAS_LEG)
+    heights, pitches = [], []
+    for waypoint in ramp:
+        for side in Side:
+            foot = waypoint.foot(side)
+            support = terrain.sole_support(
+                foot.xy, foot.yaw, *ATLAS_SOLE, samples=11, max_kink=reach.max_kink
+            )
+            assert foot.position[2] == pytest.approx(support.height, abs=1e-6)
+            assert foot.pitch == pytest.approx(support.pitch, abs=1e-12)
+            heights.append(foot.position[2])
+            pitches.append(foot.pitch)
+    assert max(heights) == pytest.approx(0.8 * math.tan(math.radians(5.0)), abs=1e-6)
+    assert min(pitches) < -0.08 and max(pitches) > 0.08  # toes up, then toes down
+    assert ramp[-1].left.position[2] == 0.0 == ramp[-1].right.position[2]
+    robot = load_robot("atlas-like")  # the soles and the leg the path was placed for
+    assert robot.sole_size == pytest.approx(ATLAS_SOLE)
+    assert robot.leg_length == pytest.approx(ATLAS_LEG, abs=1e-3)
 
 
 def test_bad_inputs():

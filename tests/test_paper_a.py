@@ -20,6 +20,7 @@ from mpcwalk.exceptions import (
     StabilizerNotFound,
 )
 from mpcwalk.experiments.paper_a.config import DEFAULT_SPECS, PATHS_DIR, load_config
+from mpcwalk.experiments.paper_a.run import paper_a_sweep
 from mpcwalk.experiments.paper_a.table import PAPER_A_LABEL, PAPER_A_ROW, format_table
 from mpcwalk.experiments.paper_a.walks import (
     TimedController,
@@ -214,7 +215,19 @@ def test_the_shipped_comparison_is_paper_a_gait_the_static_qp_and_the_mpc():
     assert DEFAULT_SPECS[0].controller().stabilizers == ("reaim", "ankle-imu")
     quick = load_config(quick=True)
     assert [s.label for s in quick.specs] == ["mpc, 1.0 s"] and quick.nb_steps == 2
-    assert sorted(p.name for p in PATHS_DIR.glob("*.mdat")) == ["straight.mdat", "turning.mdat"]
+    assert load_config().paths == ("straight", "turning", "ramp")
+    assert sorted(p.name for p in PATHS_DIR.glob("*.mdat")) == [
+        "ramp.mdat",
+        "straight.mdat",
+        "turning.mdat",
+    ]
+    assert sorted(p.name for p in PATHS_DIR.glob("*.toml")) == ["ramp.toml"]  # its terrain
+    cases = paper_a_sweep(load_config()).cases
+    assert {c.path_name: c.terrain for c in cases} == {
+        "straight": None,
+        "turning": None,
+        "ramp": str(PATHS_DIR / "ramp.toml"),
+    }
 
 
 @pytest.mark.slow
@@ -264,6 +277,23 @@ def test_straight_walk_mpc_meets_the_placement_goals():
     positions, _yaws = placement_errors(result)
     assert len(positions) == 18
     assert np.mean(positions) == pytest.approx(row["position_error_mean_cm"], rel=1e-9)
+
+
+@pytest.mark.slow
+def test_the_3d_ramp_path_is_walked_within_paper_a_s_flat_ground_figures():
+    """Paper A's 3D goal: the straight path placed on a 5 deg ramp up, a landing and a ramp
+    down (heights and tilted quaternions in ramp.mdat), walked on that terrain at 1 s/step
+    with the landings, in 3D, under paper A's flat-ground errors (2.05 cm mean, 4.96 cm
+    max). Before the swing over a brow kept paper M's profile the robot fell there."""
+    spec = TimedController("mpc, 1.0 s", "mpc", 1.0)
+    result = walk_path(spec, PATHS_DIR / "ramp.mdat", terrain=PATHS_DIR / "ramp.toml")
+    row = table_row(spec, "ramp", result)
+    assert not row["fell"] and row["steps"] == "18/18"
+    assert row["position_error_mean_cm"] < PAPER_A_ROW["position_error_mean_cm"]
+    assert row["position_error_max_cm"] < PAPER_A_ROW["position_error_max_cm"]
+    positions, _yaws = placement_errors(result)
+    assert len(positions) == 18
+    assert max(result.log.sole_positions[:, :, 2].max(axis=0)) > 0.07  # it went up the ramp
 
 
 @pytest.mark.slow

@@ -13,7 +13,7 @@ from mpcwalk.gait import (
     measure_swing_clearance,
     sole_clearance,
 )
-from mpcwalk.gait.swing_clearance import CLEARANCE_KEPT, MIN_CLEARANCE
+from mpcwalk.gait.swing_clearance import CLEARANCE_KEPT, LINE_TOLERANCE, MIN_CLEARANCE
 from mpcwalk.terrain import FLAT, Platform, Slope, Stairs, Terrain, TerrainReach
 
 ISSUE = Terrain([Stairs(0.6, 0.15, 0.30, 5), Stairs(2.4, -0.15, 0.30, 5), Slope(4.5, 1.5, 10.0)])
@@ -157,11 +157,12 @@ def ramp_schedule(angle_deg, vx=0.1):
     return terrain, ContactSchedule(plan, BIG_SOLE)
 
 
-def test_an_even_ramp_keeps_paper_m_s_swing_and_a_step_down_it_is_shaped():
+def test_an_even_ramp_keeps_paper_m_s_swing_up_and_down():
     """Up an even ramp the ground under a swing lies on the line between its footholds:
     paper M's swing rises above it as above the floor (the shaped one, rising first, left
-    g1 1.3 cm short per step up a 3 deg ramp, against 0.5 cm with paper M's). A swing that
-    steps down the ramp still lowers only once its travel has ended."""
+    g1 1.3 cm short per step up a 3 deg ramp, against 0.5 cm with paper M's). Down it too:
+    the shaped swing that lowered only once its travel had ended dropped the foot 12 cm in
+    the last tenth of a second, and atlas-like's landings slid back 2 to 5 cm each."""
     terrain, schedule = ramp_schedule(6.0)
     plan = schedule.plan
     shaped = SwingFootTrajectory(schedule, 0.08, terrain=terrain)
@@ -178,9 +179,32 @@ def test_an_even_ramp_keeps_paper_m_s_swing_and_a_step_down_it_is_shaped():
             a, b = plain.foot_poses(t)[landing.side], shaped.foot_poses(t)[landing.side]
             assert np.array_equal(a.position, b.position)
     assert measure_swing_clearance(shaped, terrain).toe_stubs == 0
-    down_ramp = Terrain([Slope(0.3, 3.0, -6.0)])  # a forward step 4.2 cm down it: shaped
+    down_ramp = Terrain([Slope(0.3, 3.0, -6.0)])  # a forward step 4.2 cm down it
     slope, pitch = -math.tan(math.radians(6.0)), math.radians(6.0)  # toes down
     lift = Footstep(Side.LEFT, (0.8, 0.0, 0.5 * slope), pitch=pitch)
     landing = Footstep(Side.LEFT, (1.2, 0.0, 0.9 * slope), pitch=pitch)
     descending = SwingFootTrajectory(schedule, 0.08, terrain=down_ramp).terrain_clearance
-    assert descending.shape(lift, landing) is not None
+    assert descending.shape(lift, landing) is None
+    down_terrain, down_schedule = ramp_schedule(-6.0)
+    down = SwingFootTrajectory(down_schedule, 0.08, terrain=down_terrain)
+    assert measure_swing_clearance(down, down_terrain).toe_stubs == 0
+
+
+def test_a_swing_over_a_brow_keeps_paper_m_s_swing_while_it_clears_it():
+    """Across the brow of a 5 deg ramp (a crest, 7 mm above the line between the
+    footholds) paper M's swing keeps more than half its lift over the ground: it is kept.
+    Over a 3 cm block between the footholds it would not: the swing is shaped."""
+    brow = Terrain([Slope(0.2, 1.0, 5.0)])  # up from 0.2 to 1.2 m, then level
+    top = math.tan(math.radians(5.0)) * 1.0
+    pitch = -math.radians(5.0)  # toes up
+    lift = Footstep(Side.LEFT, (1.0, 0.0, top - 0.2 * math.tan(math.radians(5.0))), pitch=pitch)
+    landing = Footstep(Side.LEFT, (1.4, 0.0, top))
+    schedule = ramp_schedule(6.0)[1]
+    clearance = SwingFootTrajectory(schedule, 0.08, terrain=brow).terrain_clearance
+    gaps_above_line = top - (lift.position[2] + 0.5 * (top - lift.position[2]))
+    assert gaps_above_line > LINE_TOLERANCE  # not an even ramp: the lift covers it
+    assert clearance.shape(lift, landing) is None
+    block = Terrain([Platform(1.12, length=0.06, height=0.03)])
+    flat_lift, flat_landing = Footstep(Side.LEFT, (0.9, 0.0)), Footstep(Side.LEFT, (1.4, 0.0))
+    blocked = SwingFootTrajectory(schedule, 0.04, terrain=block).terrain_clearance
+    assert blocked.shape(flat_lift, flat_landing) is not None

@@ -15,6 +15,7 @@ from mpcwalk.footsteps import (
     VelocityPlanner,
     place_on_terrain,
     terrain_steps,
+    terrain_tops,
 )
 from mpcwalk.footsteps.terrain_steps import DESCENT_HEEL_ROOM
 from mpcwalk.terrain import (
@@ -265,3 +266,28 @@ def test_a_gentle_ramp_s_foot_and_brow_ask_no_long_stride():
     plan = small_plan(ramp, reach=whole, nb_steps=40)
     longest = max(stride_ahead(plan, k) for k in range(plan.nb_steps))
     assert longest >= SMALL_REACH.sole_length + 2 * SMALL_REACH.tread_margin - 1e-9
+
+
+@pytest.mark.parametrize("start", [0.5, 0.52, 0.55, 0.57])
+def test_no_sole_centre_lands_in_the_band_about_a_crest(start):
+    """A sole straddling a crest pivots on it and rests on the side of its centre: no
+    centre is placed within ``CREST_BAND`` of a crest (a landing falling short of a centre
+    planned just past the crest rocks back, the bioloid's fall on its 4.3 deg ramp). The
+    crests of a 4 deg ramp up, a landing and a ramp down are its brow and the landing's
+    end; both hollows (the ramps' feet) still hold a straddling sole."""
+    ramp = Terrain([Slope(start, 0.43, 4.0), Slope(start + 0.73, 0.43, -4.0)])
+    crests = (start + 0.43, start + 0.73)
+    plan = small_plan(ramp, nb_steps=40)
+    back, front = (share * SMALL_REACH.sole_length for share in terrain_tops.CREST_BAND)
+    half = 0.5 * SMALL_REACH.sole_length
+    crossed = 0
+    for step in plan.steps:
+        for crest in crests:
+            if step.xy[0] - half < crest < step.xy[0] + half:
+                crossed += 1
+                assert not crest - back < step.xy[0] < crest + front, (step.xy[0], crest)
+    assert crossed >= 1  # the band leaves room to straddle a crest
+    hollows = (start, start + 1.16)
+    assert any(
+        step.xy[0] - half < hollow < step.xy[0] + half for step in plan.steps for hollow in hollows
+    )

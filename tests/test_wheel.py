@@ -20,7 +20,10 @@ SOURCES = ("pyproject.toml", "README.md", "LICENSE", "mpcwalk", "robots")
 #: Data files the library reads at run time: source folder -> folder in the installed package.
 DATA = {
     "robots": ("mpcwalk/robot/data", ("*.xml", "presets/*.toml")),
-    "mpcwalk/experiments": ("mpcwalk/experiments", ("*/config.toml", "paper_a/paths/*.mdat")),
+    "mpcwalk/experiments": (
+        "mpcwalk/experiments",
+        ("*/config.toml", "paper_a/paths/*.mdat", "paper_a/paths/*.toml"),
+    ),
     "mpcwalk/terrain": ("mpcwalk/terrain", ("examples/*.toml",)),
 }
 
@@ -119,13 +122,14 @@ def test_the_installed_package_and_its_data_come_from_the_target(installed):
         "from mpcwalk.experiments.paper_a.config import PATHS_DIR as EXPERIMENT_DIR\n"
         "print(json.dumps([mpcwalk.__file__, str(ROBOTS_DIR), str(DEFAULT_CONFIG),"
         " str(EXPERIMENT_DIR), DEFAULT_CONFIG.is_file(),"
-        " sorted(p.name for p in EXPERIMENT_DIR.glob('*.mdat'))]))\n"
+        " sorted(p.name for p in EXPERIMENT_DIR.glob('*.mdat') or ()) +"
+        " sorted(p.name for p in EXPERIMENT_DIR.glob('*.toml'))]))\n"
     )
     result = run([sys.executable, "-c", code], cwd=workdir, env=env)
     package, robots, config, paths, config_exists, mdat = json.loads(result.stdout)
     for path in (package, robots, config, paths):
         assert Path(path).is_relative_to(target), path
-    assert config_exists and mdat == ["straight.mdat", "turning.mdat"]
+    assert config_exists and mdat == ["ramp.mdat", "straight.mdat", "turning.mdat", "ramp.toml"]
 
 
 def test_mpcwalk_robots_lists_every_robot(installed):

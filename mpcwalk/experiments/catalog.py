@@ -85,7 +85,9 @@ EXPERIMENTS: Registry[Experiment] = Registry(
             _paper_m,
         ),
         Entry(
-            "paper_a", "paper A's foot placement table on the straight and turning paths", _paper_a
+            "paper_a",
+            "paper A's foot placement table on the straight, turning and 3D ramp paths",
+            _paper_a,
         ),
         Entry(
             "robustness",

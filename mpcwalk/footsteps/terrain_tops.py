@@ -7,7 +7,8 @@ margin), on ground that is that top's plane everywhere under the sole and its ma
 gap between two stones of the same height under it), neither in a pit nor on a slope
 steeper than the soles stand on; or when the sole and its margins lie over two tops it
 stands on that meet without a step at an angle the reach's ``max_kink_deg`` straddles (a
-ramp's foot or brow), where it rests on the ground's upper hull. On a rough patch the sole rests on the highest block under
+ramp's foot or brow), where it rests on the ground's upper hull, its centre out of
+:data:`CREST_BAND` about a crest. On a rough patch the sole rests on the highest block under
 it: every place there holds, and the ones wholly on one block are preferred
 (:attr:`Place.wholly`). Beyond the laid ground, the floor (at
 :attr:`~mpcwalk.terrain.Terrain.floor`) holds the sole where it is level under it.
@@ -25,6 +26,13 @@ SEARCH_STEP = 0.005
 #: Kinds of tops that hold one or two soles (a stair's tread, a stepping stone): the planner
 #: puts one foot on each when the next one is within a stride.
 NARROW_KINDS = ("tread", "stone")
+#: Band [share of the sole length] about a crest's joint line where no sole centre is placed,
+#: (behind, ahead) of the joint along x. A sole straddling a crest rests on the top under its
+#: centre, pivoting on the crest, and its centre picks the side: a landing that falls short
+#: of a centre planned just past the crest rests on the top behind it, pitched the other way
+#: than planned, with the planned support beyond the crest in the air. Landings fall short
+#: (compliant servos), so the band reaches further ahead than behind.
+CREST_BAND = (0.05, 0.3)
 #: Largest spacing [m] of the points a sole is checked at.
 _SPACING = 0.01
 _TOLERANCE = 1e-9
@@ -170,10 +178,12 @@ class TerrainTops:
             surface = self.terrain.surface_index(center[0], center[1])
             holds = bool(planar[i]) and (surface < 0 or self._stands_on(surface))
             if not planar[i] and self._straddles(x[i], y[i]):
-                # over the joint of two tops it may straddle: it rests on both
+                # over the joint of two tops it may straddle: it rests on both, or, at a
+                # crest, on the top its centre is over, away from the joint line
                 top = self.top(surface)
                 height = self.support(center, yaw).height
-                out.append(Place(offsets[i], tuple(center), strides[i], height, top, True, True))
+                clear = not self._near_crest(x[i], y[i], float(center[0]))
+                out.append(Place(offsets[i], tuple(center), strides[i], height, top, clear, clear))
                 continue
             if (
                 holds
@@ -186,6 +196,18 @@ class TerrainTops:
             place = Place(offsets[i], tuple(center), strides[i], level[i], top, holds, holds)
             out.append(place)
         return out
+
+    def _near_crest(self, x: np.ndarray, y: np.ndarray, center_x: float) -> bool:
+        """Whether a sole centred at ``center_x`` [m] whose grown points are ``x``, ``y``
+        straddles a crest with its centre in :data:`CREST_BAND` about the joint."""
+        tops = np.unique(self.terrain.surface_indices(x, y))
+        behind, ahead = sorted(
+            (self.terrain.surfaces[int(t)] for t in tops), key=lambda surface: surface.x_min
+        )
+        if ahead.slope >= behind.slope:  # a hollow: the sole rests on both tops
+            return False
+        back, front = (share * self.reach.sole_length for share in CREST_BAND)
+        return behind.x_max - back < center_x < behind.x_max + front
 
     def _straddles(self, x: np.ndarray, y: np.ndarray) -> bool:
         """Whether the points of a grown sole lie over exactly two tops it may stand on,

@@ -1,6 +1,6 @@
 """Paper A's experiments (``mpcwalk experiment run paper_a``): every controller on the
-straight and turning ``.mdat`` paths of ``paths/`` (atlas-like robot), one table of foot
-placement accuracy.
+straight and turning ``.mdat`` paths of ``paths/`` and the 3D ramp path (on the terrain file
+beside it), atlas-like robot, one table of foot placement accuracy.
 
 - :mod:`~mpcwalk.experiments.paper_a.config`: the controllers and paths (``config.toml``);
 - :mod:`~mpcwalk.experiments.paper_a.walks`: one controller on one path, its row;

@@ -10,7 +10,8 @@ from mpcwalk.robot.package_data import package_data_dir
 
 DEFAULT_CONFIG = config_path("mpcwalk.experiments.paper_a")
 
-#: The folder of paper A's ``.mdat`` paths (``straight.mdat``, ``turning.mdat``).
+#: The folder of paper A's ``.mdat`` paths (``straight.mdat``, ``turning.mdat``, and the 3D
+#: ``ramp.mdat`` with the terrain it crosses, ``ramp.toml``).
 PATHS_DIR = package_data_dir("mpcwalk.experiments.paper_a") / "paths"
 
 
@@ -28,7 +29,7 @@ class PaperAConfig:
     """
 
     specs: tuple[TimedController, ...]
-    paths: tuple[str, ...] = ("straight", "turning")
+    paths: tuple[str, ...] = ("straight", "turning", "ramp")
     robot: str = "atlas-like"
     nb_steps: int | None = None
     slow_nb_steps: int | None = None
@@ -67,7 +68,7 @@ def load_config(path: str | Path = DEFAULT_CONFIG, *, quick: bool = False) -> Pa
     values = {**data, **small}
     return PaperAConfig(
         specs=specs,
-        paths=tuple(values.get("paths", ("straight", "turning"))),
+        paths=tuple(values.get("paths", ("straight", "turning", "ramp"))),
         robot=str(values.get("robot", "atlas-like")),
         nb_steps=values.get("nb_steps"),
         slow_nb_steps=values.get("slow_nb_steps"),

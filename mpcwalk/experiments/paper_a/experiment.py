@@ -10,10 +10,11 @@ from mpcwalk.sweep import Sweep
 
 
 class PaperA(Experiment):
-    """Foot placement accuracy of every controller on paper A's straight and turning paths."""
+    """Foot placement accuracy of every controller on paper A's straight and turning paths,
+    and on the 3D ramp path."""
 
     name = "paper_a"
-    summary = "paper A's foot placement table on the straight and turning paths"
+    summary = "paper A's foot placement table on the straight, turning and 3D ramp paths"
     package = "mpcwalk.experiments.paper_a"
 
     def config(self, *, quick: bool = False) -> PaperAConfig:
@@ -44,7 +45,8 @@ class PaperA(Experiment):
             f"{settings['nb_steps'] or 'all'} (T >= 3 s: {settings['slow_nb_steps'] or 'as the others'}). "
             "Every controller walks with paper A's state machine re-aiming each step from the "
             "estimated support foot. Errors: landed sole (ground truth) against the planned "
-            "(file) pose, in the middle of the next single support (paper A's Fig. 8); "
+            "(file) pose, in the middle of the next single support (paper A's Fig. 8), in 3D "
+            "on a path with a terrain file beside it (`ramp.toml` for `ramp`); "
             "margins: signed distance to the planned support polygon.\n",
             format_table(table),
         ]

@@ -24,7 +24,8 @@ from mpcwalk.sweep import Sweep, run_sweep
 @dataclass(frozen=True)
 class PathWalk:
     """One controller on one path: the case of the sweep. ``figure``: where its top view is
-    drawn (a PNG file; None: none)."""
+    drawn (a PNG file; None: none); ``terrain``: the ground the path crosses (the terrain
+    file beside the path, ``<name>.toml``; None: the floor)."""
 
     spec: TimedController
     path_name: str
@@ -32,6 +33,7 @@ class PathWalk:
     robot: str = "atlas-like"
     nb_steps: int | None = None
     figure: str | None = None
+    terrain: str | None = None
 
     @property
     def case_id(self) -> str:
@@ -54,7 +56,9 @@ ROW_COLUMNS = (
 def run_path_walk(case: PathWalk) -> dict[str, Any]:
     """Walk one case (in a worker): its row of the table, its per-step errors, and its top
     view drawn to ``case.figure``."""
-    result = walk_path(case.spec, case.path, nb_steps=case.nb_steps, robot=case.robot)
+    result = walk_path(
+        case.spec, case.path, nb_steps=case.nb_steps, robot=case.robot, terrain=case.terrain
+    )
     if case.figure and len(result.log):
         import matplotlib.pyplot as plt
 
@@ -80,15 +84,18 @@ def top_view_name(spec: TimedController, path_name: str) -> str:
 def paper_a_sweep(
     config: PaperAConfig, out: str | Path | None = None, *, path_dir=PATHS_DIR
 ) -> Sweep:
-    """The walks of ``config`` as a sweep (their top views drawn into ``out``, if given)."""
+    """The walks of ``config`` as a sweep (their top views drawn into ``out``, if given); a
+    path with a terrain file beside it (``<name>.toml``) is walked on that terrain."""
     cases = []
     for name in config.paths:
+        ground = Path(path_dir) / f"{name}.toml"
+        terrain = str(ground) if ground.is_file() else None
         for spec in config.specs:
             slow = spec.step_duration >= 3.0 and config.slow_nb_steps
             steps = config.slow_nb_steps if slow else config.nb_steps
             figure = None if out is None else str(Path(out) / top_view_name(spec, name))
             path = str(Path(path_dir) / f"{name}.mdat")
-            cases.append(PathWalk(spec, name, path, config.robot, steps, figure))
+            cases.append(PathWalk(spec, name, path, config.robot, steps, figure, terrain))
     return Sweep(
         name="paper-a",
         cases=tuple(cases),
@@ -134,7 +141,7 @@ def run_paper_a(
     out_dir,
     *,
     specs: Sequence[TimedController] = DEFAULT_SPECS,
-    experiments: Sequence[str] = ("straight", "turning"),
+    experiments: Sequence[str] = ("straight", "turning", "ramp"),
     nb_steps: int | None = None,
     slow_nb_steps: int | None = None,
     path_dir=PATHS_DIR,

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mpcwalk.footsteps.footstep import Side, wrap_angle
+from mpcwalk.terrain import read_terrain
 from mpcwalk.walking.metrics import landing_check_times
 from mpcwalk.walking.result import WalkResult
 from mpcwalk.walking.runner import run_walk
@@ -62,9 +63,15 @@ class TimedController:
 
 
 def walk_path(
-    spec: "TimedController", path, *, nb_steps: int | None = None, robot: str = "atlas-like"
+    spec: "TimedController",
+    path,
+    *,
+    nb_steps: int | None = None,
+    robot: str = "atlas-like",
+    terrain=None,
 ) -> WalkResult:
-    """Walk one path file with one controller (no progress bar)."""
+    """Walk one path file with one controller (no progress bar), on ``terrain`` (a terrain
+    file; None: the floor)."""
     walk = WalkSpec.build(
         robot,
         controller=spec.controller(),
@@ -72,13 +79,15 @@ def walk_path(
         nb_steps=nb_steps,
         step_duration=spec.step_duration,
         double_support_ratio=spec.double_support_ratio,
+        terrain=None if terrain is None else read_terrain(terrain),
     )
     return run_walk(walk)
 
 
 def placement_errors(result: WalkResult) -> tuple[np.ndarray, np.ndarray]:
     """Per landed step: position error [cm] and yaw error [deg] of the landed sole against
-    the planned (file) pose, measured in the next single support (as the walk metrics)."""
+    the planned (file) pose, measured in the next single support (as the walk metrics); the
+    position in 3D on a terrain, else on the ground plane."""
     schedule, log = result.schedule, result.log
     positions, yaws = [], []
     if not len(log):
@@ -89,7 +98,9 @@ def placement_errors(result: WalkResult) -> tuple[np.ndarray, np.ndarray]:
         i = min(int(np.searchsorted(log.time, t - 1e-9)), len(log) - 1)
         step = schedule.plan.steps[k]
         j = 0 if step.side is Side.LEFT else 1
-        positions.append(100.0 * np.linalg.norm(log.sole_positions[i, j, :2] - step.xy))
+        axes = 3 if result.spec.world.terrain is not None else 2
+        error = log.sole_positions[i, j, :axes] - step.position[:axes]
+        positions.append(100.0 * float(np.linalg.norm(error)))
         yaws.append(np.degrees(abs(float(wrap_angle(log.sole_yaws[i, j] - step.yaw)))))
     return np.array(positions), np.array(yaws)
 
@@ -99,6 +110,8 @@ def table_row(spec: TimedController, experiment: str, result: WalkResult) -> dic
     from mpcwalk.gait.support_margins import support_margins
 
     m, log = result.metrics, result.log
+    # on a terrain, the landings' 3D errors (heights count)
+    in_3d = m.landing_error_3d_cm_mean is not None
     com_margin = (
         support_margins(result.schedule, log.time, log.com[:, :2]) if len(log) else np.zeros(1)
     )
@@ -112,8 +125,12 @@ def table_row(spec: TimedController, experiment: str, result: WalkResult) -> dic
         "double_support_ratio": spec.double_support_ratio,
         "steps": f"{m.steps_completed}/{m.steps_planned}",
         "total_time_s": m.time_simulated_s,
-        "position_error_mean_cm": m.foot_position_error_cm_mean,
-        "position_error_max_cm": m.foot_position_error_cm_max,
+        "position_error_mean_cm": (
+            m.landing_error_3d_cm_mean if in_3d else m.foot_position_error_cm_mean
+        ),
+        "position_error_max_cm": (
+            m.landing_error_3d_cm_max if in_3d else m.foot_position_error_cm_max
+        ),
         "yaw_error_mean_deg": m.foot_yaw_error_deg_mean,
         "yaw_error_max_deg": m.foot_yaw_error_deg_max,
         "cop_margin_min_cm": None if m.cop_margin_min_m is None else 100.0 * m.cop_margin_min_m,
