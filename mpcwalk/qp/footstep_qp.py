@@ -53,6 +53,10 @@ class FootstepQP:
     formulation = "dense"
     fixed_pattern = False
     m_eq = 0
+    plain_inequalities = True
+    """:meth:`problem` is ``min 1/2 x'Px + q'x, G x <= h`` on the arrays of
+    :meth:`dense_arrays` and nothing else (no bounds): the ``quadprog`` back-end hands them
+    to quadprog as qpsolvers would, without the qpsolvers layer."""
 
     def __init__(self, lipm: LIPM, parameters: FootstepMpcParameters, nb_footsteps: int) -> None:
         if int(nb_footsteps) != nb_footsteps or nb_footsteps < 1:

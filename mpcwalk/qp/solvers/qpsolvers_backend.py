@@ -10,6 +10,7 @@ from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.qp.program import QuadraticProgram
 from mpcwalk.qp.result import QPResult
 from mpcwalk.qp.solvers.base import QPSolver, failure
+from mpcwalk.qp.solvers.quadprog_dense import solve_dense_quadprog
 
 #: qpsolvers back-ends that use the ``initvals`` warm start.
 WARM_START_SOLVERS = frozenset({"osqp", "proxqp", "qpalm", "scs", "cvxopt"})
@@ -61,6 +62,15 @@ class QpsolversSolver(QPSolver):
 
     def solve(self, qp: QuadraticProgram, *, shift: float = 0.0) -> QPResult:
         self.check(qp)
+        if (
+            self.name == "quadprog"
+            and not self.settings
+            and getattr(qp, "plain_inequalities", False)
+        ):
+            # the call qpsolvers makes, on the same arrays, without its wrapping
+            result = solve_dense_quadprog(*qp.dense_arrays(), name=self.name)
+            self._previous = result.x
+            return result
         problem = qp.problem(dense=self.dense)
         initvals = None
         if self._previous is not None and self.name in WARM_START_SOLVERS:
