@@ -325,7 +325,10 @@ class FootstepMpcGenerator(StepTimingAdaptation):
                 t = self.time
         times = qp.sample_times_at(t)
         steps_k, variable = slots.free_steps(t, times[-1], self.freeze_before_landing)
-        supports = slots.supports(qp.constraint_times(t), variable, qp.nf)
+        # the constraint points after the first interval's are the last tick's within a
+        # sampling interval
+        fresh = qp.parameters.constraint_points
+        supports = slots.supports(qp.constraint_times(t), variable, qp.nf, fresh=fresh)
         offset = np.zeros(2)
         if len(steps_k):
             offset = self._capture_offset(t, float(slots.landing[steps_k[0]]))

@@ -121,14 +121,10 @@ def blended_rectangles(yaw_a: np.ndarray, yaw_b: np.ndarray, lam: np.ndarray, fo
     w = (1.0 - lam) * np.exp(1j * np.asarray(yaw_a)) + lam * np.exp(1j * np.asarray(yaw_b))
     scale, yaw = np.abs(w), np.angle(w)
     c, s = np.cos(yaw), np.sin(yaw)
-    normals = np.stack(
-        [
-            np.stack([c, s], -1),
-            np.stack([-c, -s], -1),
-            np.stack([-s, c], -1),
-            np.stack([s, -c], -1),
-        ],
-        axis=-2,
-    )
+    normals = np.empty((*w.shape, 4, 2))  # rows: (c, s), (-c, -s), (-s, c), (s, -c)
+    normals[..., 0, 0], normals[..., 0, 1] = c, s
+    normals[..., 1, 0], normals[..., 1, 1] = -c, -s
+    normals[..., 2, 0], normals[..., 2, 1] = -s, c
+    normals[..., 3, 0], normals[..., 3, 1] = s, -c
     half = scale[..., None] * (0.5 * np.array([foot.length, foot.length, foot.width, foot.width]))
     return normals, half

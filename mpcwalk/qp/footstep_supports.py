@@ -17,8 +17,6 @@ same centre (paper M's polygonal reference, eq. 6-8, on the variable footsteps).
 <mpcwalk.qp.footstep_qp.FootstepQP.update>` takes.
 """
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError, InfeasibleStep
@@ -28,73 +26,10 @@ from mpcwalk.footsteps.reachability import ReachabilityRectangle
 from mpcwalk.gait.contact_schedule import MAX_POLYGON_EDGES, ContactSchedule
 from mpcwalk.gait.swing_retarget import SwingLimits
 from mpcwalk.qp.footstep_parameters import blended_rectangles
+from mpcwalk.qp.footstep_variables import SampleSupports, StepVariables
 
 _BOUNDARY_EPS = 1e-9  # [s] a sample on a phase boundary belongs to the new phase
 _REACH_TOLERANCE = 1e-6  # [m], [rad] nominal steps may touch the rectangle's edges
-
-
-@dataclass(frozen=True)
-class SampleSupports:
-    """ZMP constraints and ZMP centres at the constraint points, affine in the footsteps.
-
-    The constraint points are :meth:`FootstepQP.constraint_times
-    <mpcwalk.qp.footstep_qp.FootstepQP.constraint_times>` (``n = N P`` with ``P`` points
-    per interval; every ``P``-th is a sample). Point ``i`` requires
-    ``normals[i, r] . (Z_i - S_i F) <= offsets[i, r]`` for the rows ``r`` where
-    ``rows[i, r]``; its ZMP centre is ``centres[i] + S_i F`` (used at the samples only).
-
-    Attributes:
-        normals: Outward unit normals, shape (n, E, 2).
-        offsets: Shape (n, E), in [m].
-        rows: Which rows are real (not padding), shape (n, E), bool.
-        weights: ``S``: share of each footstep variable in the point's support, (n, nf).
-        centres: Fixed part ``c0`` of the ZMP centre, shape (n, 2), in [m].
-    """
-
-    normals: np.ndarray
-    offsets: np.ndarray
-    rows: np.ndarray
-    weights: np.ndarray
-    centres: np.ndarray
-
-
-@dataclass(frozen=True)
-class StepVariables:
-    """Footstep variables of one tick: which are used, their reference, their reach.
-
-    Attributes:
-        active: Shape (nf,), bool; inactive variables are pinned at 0 by the cost only.
-        reference_matrix: ``M``, shape (nf, nf).
-        reference: ``r``, shape (nf, 2), in [m]: the cost pulls ``M F`` towards it.
-        predecessor: Variable index of the footstep each one is reached from (the support
-            foot of its step), or -1 when that foot is fixed; shape (nf,), int.
-        predecessor_xy: Position of a fixed predecessor, shape (nf, 2), in [m].
-        predecessor_yaw: Yaw of the predecessor, shape (nf,), in [rad].
-        lower: Lowest landing in the predecessor's frame (x, y), shape (nf, 2), in [m].
-        upper: Highest landing, shape (nf, 2), in [m].
-        initial: Current positions (warm start of the footstep entries), (nf, 2), in [m].
-        box: Half-widths of a box about ``initial`` (world x, y) each landing stays in, shape
-            (nf, 2), in [m] (late step adjustment: what the swing's time left allows); None
-            or inf: no box.
-        band_lower: Smallest world x, y of each landing, shape (nf, 2), in [m] (the tread it
-            was placed on, :class:`~mpcwalk.footsteps.landing_bands.LandingBands`); None or
-            -inf: unbounded.
-        band_upper: Largest world x, y of each landing, shape (nf, 2), in [m]; None or inf:
-            unbounded.
-    """
-
-    active: np.ndarray
-    reference_matrix: np.ndarray
-    reference: np.ndarray
-    predecessor: np.ndarray
-    predecessor_xy: np.ndarray
-    predecessor_yaw: np.ndarray
-    lower: np.ndarray
-    upper: np.ndarray
-    initial: np.ndarray
-    box: np.ndarray | None = None
-    band_lower: np.ndarray | None = None
-    band_upper: np.ndarray | None = None
 
 
 class FootstepSlots:
@@ -152,6 +87,8 @@ class FootstepSlots:
         ]
         self.landing = schedule.walk_start + np.arange(nb) * schedule.step_duration + schedule.t_e
         self.current = schedule
+        self._later_supports: tuple | None = None  # the points after the fresh ones
+        self._reach_rows: tuple | None = None  # the footstep variables' reach
         self._tabulate(schedule)
 
     def _bounds_holding(self, bounds, k: int):
@@ -244,10 +181,35 @@ class FootstepSlots:
             A[walk], B[walk], lam[walk] = a, b, w
         return A, B, lam
 
-    def supports(self, times: np.ndarray, variable: np.ndarray, nf: int) -> SampleSupports:
+    def supports(
+        self, times: np.ndarray, variable: np.ndarray, nf: int, *, fresh: int | None = None
+    ) -> SampleSupports:
         """ZMP constraints and centres at ``times`` [s] for ``nf`` footstep variables: the
         published polygons where both feet are fixed, blended rectangles on the footstep
-        variables elsewhere."""
+        variables elsewhere.
+
+        ``fresh``: only the first ``fresh`` times may be new: the points after them are
+        taken from the previous call when their times, ``variable``, ``nf`` and the
+        published footsteps are the same (every point is computed on its own, so the
+        result is the one computed anew). The ticks of one sampling interval share every
+        constraint point but those of the first interval. None computes every point.
+        """
+        if fresh is None:
+            return self._supports(times, variable, nf)
+        later = times[fresh:]
+        key = (later.tobytes(), variable.tobytes(), nf, id(self.positions), id(self.current))
+        cached = self._later_supports
+        if cached is None or cached[0] != key:
+            # the key's objects are held with it: their ids are not reused meanwhile
+            cached = self._later_supports = (
+                key,
+                self._supports(later, variable, nf),
+                (self.positions, self.current),
+            )
+        return self._supports(times[:fresh], variable, nf).joined(cached[1])
+
+    def _supports(self, times: np.ndarray, variable: np.ndarray, nf: int) -> SampleSupports:
+        """:meth:`supports`, every point computed."""
         A, B, lam = self.slots(times)
         va, vb = variable[A], variable[B]
         pos = self.positions
@@ -262,18 +224,18 @@ class FootstepSlots:
         weights = weights[:, :nf]
         moving = np.flatnonzero((va >= 0) | (vb >= 0))
         idx = self.current.phase_index(times + _BOUNDARY_EPS)
-        normals, offsets = self._phase_A[idx].copy(), self._phase_b[idx].copy()
-        rows = self._phase_rows[idx].copy()
+        # (fancy indexing copies)
+        normals, offsets, rows = self._phase_A[idx], self._phase_b[idx], self._phase_rows[idx]
         if len(moving):
-            n, half = blended_rectangles(
+            blended, half = blended_rectangles(
                 self.yaws[A[moving]], self.yaws[B[moving]], lam[moving], self.current.foot
             )
-            normals[moving] = 0.0
-            offsets[moving] = 0.0
-            rows[moving] = False
-            normals[moving, :4] = n
-            offsets[moving, :4] = half + np.einsum("kra,ka->kr", n, centres[moving])
+            normals[moving, :4] = blended
+            normals[moving, 4:] = 0.0
+            offsets[moving, :4] = half + np.einsum("kra,ka->kr", blended, centres[moving])
+            offsets[moving, 4:] = 0.0
             rows[moving, :4] = True
+            rows[moving, 4:] = False
         return SampleSupports(normals, offsets, rows, weights, centres)
 
     def step_variables(
@@ -300,26 +262,18 @@ class FootstepSlots:
                 :meth:`~mpcwalk.gait.swing_retarget.SwingLimits.landing_change_bound` of the
                 time left until it.
         """
-        active = np.zeros(nf, bool)
+        count = len(steps_k)
+        active, pred, pred_xy, pred_yaw, lower, upper, initial = self._reach(steps_k, variable, nf)
         M, r = np.eye(nf), np.zeros((nf, 2))
-        pred = np.full(nf, -1)
-        pred_xy, pred_yaw = np.zeros((nf, 2)), np.zeros(nf)
-        lower, upper = np.full((nf, 2), -1.0), np.ones((nf, 2))
-        initial = np.zeros((nf, 2))
-        for j, k in enumerate(steps_k):
-            p = self.support[k]
-            active[j] = True
-            pred[j], pred_xy[j], pred_yaw[j] = variable[p], self.positions[p], self.yaws[p]
-            lower[j], upper[j] = self.bounds[k][0][:2], self.bounds[k][1][:2]
-            initial[j] = self.positions[2 + k]
-            if absolute:
-                r[j] = self.nominal[2 + k] + offset
-            else:
-                r[j] = self.nominal[2 + k] - self.nominal[p]
-                if variable[p] >= 0:
-                    M[j, variable[p]] = -1.0
-                else:
-                    r[j] += self.positions[p]
+        slots, support = 2 + steps_k, self.support[steps_k]
+        if absolute:
+            r[:count] = self.nominal[slots] + offset
+        else:
+            r[:count] = self.nominal[slots] - self.nominal[support]
+            chained = variable[support] >= 0
+            M[np.flatnonzero(chained), variable[support[chained]]] = -1.0
+            fixed = np.flatnonzero(~chained)
+            r[fixed] += self.positions[support[fixed]]
         half = None
         if self.late is not None and now is not None:
             half = np.full((nf, 2), np.inf)
@@ -344,6 +298,33 @@ class FootstepSlots:
             band_lower,
             band_upper,
         )
+
+    def _reach(self, steps_k: np.ndarray, variable: np.ndarray, nf: int) -> tuple:
+        """``(active, predecessor, predecessor_xy, predecessor_yaw, lower, upper, initial)``
+        of :class:`StepVariables` for the steps ``steps_k``: the last call's arrays (read-only)
+        while the steps, ``variable``, ``nf`` and the published footsteps are the same (they
+        change when a landing is frozen or a schedule published, not from tick to tick)."""
+        key = (steps_k.tobytes(), variable.tobytes(), nf, id(self.positions))
+        cached = self._reach_rows
+        if cached is not None and cached[0] == key:
+            return cached[1]
+        active = np.zeros(nf, bool)
+        pred = np.full(nf, -1)
+        pred_xy, pred_yaw = np.zeros((nf, 2)), np.zeros(nf)
+        lower, upper = np.full((nf, 2), -1.0), np.ones((nf, 2))
+        initial = np.zeros((nf, 2))
+        for j, k in enumerate(steps_k):
+            p = self.support[k]
+            active[j] = True
+            pred[j], pred_xy[j], pred_yaw[j] = variable[p], self.positions[p], self.yaws[p]
+            lower[j], upper[j] = self.bounds[k][0][:2], self.bounds[k][1][:2]
+            initial[j] = self.positions[2 + k]
+        arrays = (active, pred, pred_xy, pred_yaw, lower, upper, initial)
+        for array in arrays:
+            array.setflags(write=False)
+        # the positions are held with the key: their id is not reused meanwhile
+        self._reach_rows = (key, arrays, self.positions)
+        return arrays
 
     def publish(
         self, steps_k: np.ndarray, footsteps: np.ndarray, tolerance: float
@@ -371,3 +352,6 @@ class FootstepSlots:
         self.positions = positions
         self._tabulate(self.current)
         return self.current
+
+
+__all__ = ["FootstepSlots", "SampleSupports", "StepVariables"]
