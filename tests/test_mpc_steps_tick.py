@@ -1,5 +1,6 @@
 """The footstep-adaptive MPC's per-tick shortcuts give what the direct computation gives."""
 
+import dataclasses
 import functools
 import warnings
 
@@ -9,6 +10,7 @@ import qpsolvers
 from plans import velocity_schedule
 
 from mpcwalk.generators.mpc_steps import FootstepMpcGenerator
+from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp.solvers import make_solver
 from mpcwalk.qp.solvers.quadprog_dense import solve_dense_quadprog
@@ -57,3 +59,61 @@ def test_direct_quadprog_reports_an_infeasible_qp():
     assert not result.success and result.x is None and result.status == "not found"
     result = solve_dense_quadprog(-P, q, G, -h)
     assert not result.success and "positive definite" in result.status
+
+
+def assert_same_fields(a, b):
+    for field in dataclasses.fields(a):
+        x, y = getattr(a, field.name), getattr(b, field.name)
+        if x is None or y is None:
+            assert x is None and y is None, field.name
+        else:
+            np.testing.assert_array_equal(x, y, err_msg=field.name)
+
+
+def pushed_ticks(gen: FootstepMpcGenerator, ticks: int, push_tick: int = 120):
+    """Step ``gen`` in closed loop on its own outputs, its CoM velocity kicked sideways at
+    ``push_tick`` (the next landings move: schedules are published); yield before each
+    step."""
+    out = gen.reset(straight())
+    for tick in range(ticks):
+        yield tick
+        measured = out.state
+        if tick == push_tick:
+            measured = ComState(out.com, out.com_velocity + [0.0, 0.15], out.com_acceleration)
+        out = gen.step(measured)
+
+
+@pytest.mark.parametrize("absolute", [True, False])
+def test_the_kept_supports_and_reach_are_the_ones_computed_anew(absolute):
+    reference = "absolute" if absolute else "relative"
+    gen = FootstepMpcGenerator(lipm=LIPM_SMALL, footstep_reference=reference)
+    checked = 0
+    for _ in pushed_ticks(gen, 260):
+        slots, qp = gen._slots, gen.qp
+        if qp is None or slots is None or qp.x0 is None:
+            continue
+        t = gen.time
+        times = qp.sample_times_at(t)
+        steps_k, variable = slots.free_steps(t, times[-1], gen.freeze_before_landing)
+        points = qp.constraint_times(t)
+        P = qp.parameters.constraint_points
+        kept = slots.supports(points, variable, qp.nf, fresh=P)
+        assert_same_fields(kept, slots.supports(points, variable, qp.nf))
+        offset = np.array([0.003, -0.002])
+        options = {"absolute": absolute, "offset": offset}
+        steps = slots.step_variables(steps_k, variable, qp.nf, **options)
+        slots._reach_rows = None  # computed anew
+        assert_same_fields(steps, slots.step_variables(steps_k, variable, qp.nf, **options))
+        # the QP's rows from the kept reach arrays, and from writeable copies (not kept)
+        arrays = {f.name: getattr(steps, f.name) for f in dataclasses.fields(steps)}
+        copies = dataclasses.replace(
+            steps, **{name: np.copy(a) for name, a in arrays.items() if a is not None}
+        )
+        x0 = qp.x0
+        kept_rows = qp._constraints(x0, kept, steps)
+        kept_rows = qp._constraints(x0, kept, steps)  # the second time from the QP's cache
+        for (G, h), (G_new, h_new) in zip(kept_rows, qp._constraints(x0, kept, copies)):
+            np.testing.assert_array_equal(G, G_new)
+            np.testing.assert_array_equal(h, h_new)
+        checked += 1
+    assert gen.nb_publications > 0 and checked > 250

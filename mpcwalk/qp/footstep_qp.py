@@ -28,7 +28,7 @@ from mpcwalk.exceptions import ConfigurationError, NotReset
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp.cost_factor import bordered_inverse_factor, inverse_cholesky
-from mpcwalk.qp.footstep_bounds import band_rows, box_rows
+from mpcwalk.qp.footstep_bounds import band_rows, box_rows, reach_rows
 from mpcwalk.qp.footstep_parameters import FootstepMpcParameters
 from mpcwalk.qp.footstep_prediction import horizon_predictions
 from mpcwalk.qp.footstep_supports import SampleSupports, StepVariables
@@ -90,6 +90,7 @@ class FootstepQP:
         """The supports of the last :meth:`update`."""
         self.sample_times = self.sample_times_at(0.0)
         self._initial_footsteps = np.zeros((nf, 2))
+        self._reach_rows: tuple | None = None  # the reach rows, with the arrays they are of
 
     def sample_times_at(self, t: float) -> np.ndarray:
         """Sample times of a tick at ``t`` [s], shape (N,): the grid of multiples of the
@@ -174,7 +175,7 @@ class FootstepQP:
         H[:N, N:] = -wz * pred["Pzu"].T @ S
         H[N:, :N] = H[:N, N:].T
         H[N:, N:] = wz * S.T @ S + wf * M.T @ M
-        scale = self.cost_scale = 2.0 / np.max(np.diag(H))  # largest diagonal entry of P is 1
+        scale = self.cost_scale = 2.0 / H.diagonal().max()  # largest diagonal entry of P is 1
         self._H = H
         P, q = np.zeros((self.n, self.n)), np.zeros(self.n)
         zmp_free, vel_free = pred["Pzs"] @ x0, pred["Pvs"] @ x0  # (N, 2)
@@ -217,45 +218,26 @@ class FootstepQP:
         Pzu, S = self._pred["Czu"][point], supports.weights[point]
         zmp_free = self._pred["Czs"][point] @ x0
         for a in range(2):
-            G_zmp[:, a * N : (a + 1) * N] = normals[:, a : a + 1] * Pzu
-            G_zmp[:, 2 * N + a * nf : 2 * N + (a + 1) * nf] = -normals[:, a : a + 1] * S
+            np.multiply(normals[:, a : a + 1], Pzu, out=G_zmp[:, a * N : (a + 1) * N])
+            foot = G_zmp[:, 2 * N + a * nf : 2 * N + (a + 1) * nf]
+            np.multiply(-normals[:, a : a + 1], S, out=foot)
         h_zmp = (
             supports.offsets[point, row]
             - self.parameters.zmp_margin
             - np.einsum("ra,ra->r", normals, zmp_free)
         )
-        active = np.flatnonzero(steps.active)
-        # four rows per active footstep j: +/- its local x, then +/- its local y, relative
-        # to its predecessor (a variable, or a fixed footstep moving the bound)
-        yaw = steps.predecessor_yaw[active]
-        c, s = np.cos(yaw), np.sin(yaw)
-        x_axis, y_axis = np.stack([c, s], axis=1), np.stack([-s, c], axis=1)
-        e = np.stack([x_axis, -x_axis, y_axis, -y_axis], axis=1)  # (r, 4, 2)
-        bounds = np.stack(
-            [
-                steps.upper[active, 0],
-                -steps.lower[active, 0],
-                steps.upper[active, 1],
-                -steps.lower[active, 1],
-            ],
-            axis=1,
-        )
-        rows = np.arange(4 * len(active)).reshape(-1, 4)
-        G_reach = np.zeros((4 * len(active), self.n))
-        G_reach[rows, (2 * N + active)[:, None]] += e[..., 0]
-        G_reach[rows, (2 * N + nf + active)[:, None]] += e[..., 1]
-        predecessor = steps.predecessor[active]
-        chained = predecessor >= 0
-        if chained.any():
-            p = predecessor[chained][:, None]
-            G_reach[rows[chained], 2 * N + p] -= e[chained, :, 0]
-            G_reach[rows[chained], 2 * N + nf + p] -= e[chained, :, 1]
-        fixed = steps.predecessor_xy[active]
-        moved = np.einsum("rka,ra->rk", e, fixed)
-        h_reach = np.where(chained[:, None], bounds, bounds + moved).ravel()
+        reach = (steps.active, steps.predecessor, steps.predecessor_yaw)
+        reach += (steps.predecessor_xy, steps.lower, steps.upper)
+        # the same read-only arrays (the slots keep them while the footsteps stay): the
+        # same rows
+        cached = self._reach_rows
+        if cached is None or any(a is not b for a, b in zip(cached[0], reach)):
+            cached = (reach, reach_rows(steps, self.n, N, nf))
+            if not any(array.flags.writeable for array in reach):
+                self._reach_rows = cached
         return [
             (G_zmp, h_zmp),
-            (G_reach, h_reach),
+            cached[1],
             box_rows(steps, self.n, N, nf),
             band_rows(steps, self.n, N, nf),
         ]
