@@ -95,6 +95,8 @@ def test_the_kept_supports_and_reach_are_the_ones_computed_anew(absolute):
         t = gen.time
         times = qp.sample_times_at(t)
         steps_k, variable = slots.free_steps(t, times[-1], gen.freeze_before_landing)
+        velocity = slots.nominal_schedule.reference_velocity(times)
+        np.testing.assert_array_equal(slots.reference_velocity(times), velocity)
         points = qp.constraint_times(t)
         P = qp.parameters.constraint_points
         kept = slots.supports(points, variable, qp.nf, fresh=P)

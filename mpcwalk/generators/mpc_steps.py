@@ -342,7 +342,7 @@ class FootstepMpcGenerator(StepTimingAdaptation):
         if not profile.is_level:  # the time-varying LIPM of the footsteps' heights
             g = self.lipm.gravity
             eta = (profile.eta(times, g), profile.eta(qp.constraint_times(t), g))
-        qp.update(x0, t, slots.nominal_schedule.reference_velocity(times), supports, steps, eta)
+        qp.update(x0, t, slots.reference_velocity(times), supports, steps, eta)
         shift = (
             0.0
             if self._plan is None

@@ -213,8 +213,8 @@ class RecedingHorizonGenerator(PatternGenerator):
             return self.cart_table.integrate(state, np.zeros(2), dt)
         knots, jerks, end = self._plan.knots, self._plan.jerks, t + dt
         while t < end - _TIME_EPS:
-            i = np.searchsorted(knots, t + _TIME_EPS, side="right") - 1
-            i = int(np.clip(i, 0, len(jerks) - 1))
+            i = int(np.searchsorted(knots, t + _TIME_EPS, side="right")) - 1
+            i = min(max(i, 0), len(jerks) - 1)
             boundary = knots[i + 1] if i + 1 < len(knots) else end
             step = min(end, boundary) - t if boundary > t + _TIME_EPS else end - t
             state = self.cart_table.integrate(state, jerks[i], step)

@@ -89,6 +89,7 @@ class FootstepSlots:
         self.current = schedule
         self._later_supports: tuple | None = None  # the points after the fresh ones
         self._reach_rows: tuple | None = None  # the footstep variables' reach
+        self._reference_velocity: tuple | None = None  # at the last samples
         self._tabulate(schedule)
 
     def _bounds_holding(self, bounds, k: int):
@@ -154,6 +155,18 @@ class FootstepSlots:
         variable = np.full(self.nb_steps + 2, -1)
         variable[2 + steps_k] = np.arange(len(steps_k))
         return steps_k, variable
+
+    def reference_velocity(self, times: np.ndarray) -> np.ndarray:
+        """The nominal schedule's reference velocity at the sample ``times`` [s], shape
+        (n, 2), in [m/s] (read-only): the last call's while the times are the same (the
+        ticks of one sampling interval share their samples)."""
+        key = times.tobytes()
+        cached = self._reference_velocity
+        if cached is None or cached[0] != key:
+            velocity = self.nominal_schedule.reference_velocity(times)
+            velocity.setflags(write=False)
+            cached = self._reference_velocity = (key, velocity)
+        return cached[1]
 
     def slots(self, times: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Feet A and B (slots) of each sample and the share ``lam`` of B in its support."""
