@@ -9,6 +9,7 @@ import pytest
 import qpsolvers
 from plans import velocity_schedule
 
+from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators.mpc_steps import FootstepMpcGenerator
 from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
@@ -119,3 +120,48 @@ def test_the_kept_supports_and_reach_are_the_ones_computed_anew(absolute):
             np.testing.assert_array_equal(h, h_new)
         checked += 1
     assert gen.nb_publications > 0 and checked > 250
+
+
+def assert_same_schedule(fast: ContactSchedule, full: ContactSchedule) -> None:
+    for name in (
+        "torso_waypoints",
+        "support_positions",
+        "phase_centers",
+        "zmp_breakpoints",
+        "zmp_breakpoint_values",
+        "_phase_starts",
+        "_phase_single",
+    ):
+        np.testing.assert_array_equal(getattr(fast, name), getattr(full, name), err_msg=name)
+    # the polygons of shapes reused along the chain: to 1e-12 m (the shapes' key)
+    for a, b in zip(fast.phase_halfplanes, full.phase_halfplanes):
+        np.testing.assert_allclose(a, b, rtol=0.0, atol=1e-12)
+    assert fast._phase_start_list == full._phase_start_list
+    assert len(fast.phases) == len(full.phases)
+    for mine, theirs in zip(fast.phases, full.phases):
+        assert (mine.start, mine.end, mine.step_index) == (
+            theirs.start,
+            theirs.end,
+            theirs.step_index,
+        )
+        assert mine.feet == theirs.feet
+        np.testing.assert_allclose(mine.polygon.vertices, theirs.polygon.vertices, atol=1e-12)
+
+
+@pytest.mark.parametrize("first", [0, 1, 4, 9])
+def test_a_publication_is_the_schedule_built_anew(first):
+    """Steps from ``first`` on moved by one offset (the tail of a publication), again and
+    again: each schedule built from the last one is the one built from its plan alone."""
+    schedule = velocity_schedule((0.1, 0.0, np.deg2rad(20.0)), 12)
+    rng = np.random.default_rng(first)
+    for _ in range(4):
+        delta = rng.normal(0.0, 2e-3, 2)
+        steps = list(schedule.plan.steps)
+        for k in range(first, len(steps)):
+            position = steps[k].position
+            steps[k] = steps[k].moved(position=[*(position[:2] + delta), position[2]])
+        schedule = schedule.with_steps(steps)
+        assert_same_schedule(schedule, ContactSchedule(schedule.plan, schedule.foot))
+    # fewer steps: nothing of the phase times is taken
+    shorter = schedule.with_steps(schedule.plan.steps[:8])
+    assert_same_schedule(shorter, ContactSchedule(shorter.plan, shorter.foot))

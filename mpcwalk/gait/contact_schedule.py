@@ -9,54 +9,16 @@ until ``t_b``, single support until ``t_e``, double support until ``T``
 """
 
 import bisect
-from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
 
 from mpcwalk.footsteps.footstep import FootGeometry, Footstep, FootstepPlan, Side
+from mpcwalk.gait.contact_phases import Phase, phase_centers
 from mpcwalk.gait.support_polygons import MAX_POLYGON_EDGES, SupportPolygons, pose_key
 from mpcwalk.models.support_polygon import SupportPolygon
 
 _KNOT_GAP = 1e-9  # [s] knot placed just before each breakpoint of the ZMP reference
-
-
-@dataclass(frozen=True)
-class Phase:
-    """One contact phase.
-
-    Attributes:
-        start: Start time, in [s].
-        end: End time, in [s].
-        step_index: Step this phase belongs to; -1 for the initial stance and
-            ``nb_steps`` for the final one.
-        single_support: True when one foot only is on the ground.
-        support_side: Supporting foot in single support, else None.
-        feet: Feet on the ground during the phase (one or two).
-        polygon: Support polygon of the phase.
-    """
-
-    start: float
-    end: float
-    step_index: int
-    single_support: bool
-    support_side: Side | None
-    feet: dict[Side, Footstep]
-    polygon: SupportPolygon
-
-    @property
-    def duration(self) -> float:
-        """Phase length, in [s]."""
-        return self.end - self.start
-
-
-def _center(feet: dict[Side, Footstep]) -> np.ndarray:
-    """Mean of the feet's (x, y), as ``np.mean(..., axis=0)`` computes it (the sum over the
-    feet, divided by their number)."""
-    points = [foot.xy for foot in feet.values()]
-    if len(points) == 1:
-        return points[0] / 1.0
-    return (points[0] + points[1]) / 2.0 if len(points) == 2 else np.mean(points, axis=0)
 
 
 class ContactSchedule:
@@ -112,8 +74,14 @@ class ContactSchedule:
             for st in self._stances[len(rects) :]
         ]
         self.phases: list[Phase] = self._build_phases(phases, first if source is not None else 0)
-        self._phase_starts = np.array([ph.start for ph in self.phases])
-        self._phase_start_list = [float(start) for start in self._phase_starts]
+        # the same timing and number of steps: the same phase times as the reused schedule's
+        timed = reused if reused is not None and self._same_phase_times(reused) else None
+        if timed is not None:
+            self._phase_starts = timed._phase_starts
+            self._phase_start_list = timed._phase_start_list
+        else:
+            self._phase_starts = np.array([ph.start for ph in self.phases])
+            self._phase_start_list = [float(start) for start in self._phase_starts]
         A, b = zip(
             *(
                 self._polygons.padded_halfplanes(key, ph.polygon)
@@ -127,28 +95,52 @@ class ContactSchedule:
             self._phase_b = np.concatenate([source._phase_b[:kept], self._phase_b])
         self._phase_A.setflags(write=False)
         self._phase_b.setflags(write=False)
-        self._phase_single = np.array([ph.single_support for ph in self.phases])
-        # Waypoints of paper M's ZMP reference: x_t[k] (midpoint of the feet at
-        # each step boundary) and x_s[k] (support foot of step k).
-        self.torso_waypoints = np.array(
-            [0.5 * (st[Side.LEFT].xy + st[Side.RIGHT].xy) for st in self._stances]
+        self._phase_single = (
+            timed._phase_single
+            if timed is not None
+            else np.array([ph.single_support for ph in self.phases])
         )
-        self.support_positions = np.array(
-            [self._stances[k][step.side.other].xy for k, step in enumerate(plan.steps)]
+        # Waypoints of paper M's ZMP reference: x_t[k] (midpoint of the feet at
+        # each step boundary) and x_s[k] (support foot of step k); those of the stances
+        # before the first new step are the reused schedule's.
+        same = first if source is not None else 0
+        self.torso_waypoints = np.array(
+            [0.5 * (st[Side.LEFT].xy + st[Side.RIGHT].xy) for st in self._stances[same + 1 :]]
         ).reshape(-1, 2)
+        support_positions = np.array(
+            [self._stances[k][plan.steps[k].side.other].xy for k in range(same, plan.nb_steps)]
+        ).reshape(-1, 2)
+        if source is not None:
+            self.torso_waypoints = np.concatenate(
+                [source.torso_waypoints[: same + 1], self.torso_waypoints]
+            )
+            support_positions = np.concatenate([source.support_positions[:same], support_positions])
+        else:
+            first_stance = self._stances[0]
+            waypoint = 0.5 * (first_stance[Side.LEFT].xy + first_stance[Side.RIGHT].xy)
+            self.torso_waypoints = np.concatenate([[waypoint], self.torso_waypoints])
+        self.support_positions = support_positions
         #: Support centre of each phase (support foot, or midpoint of the feet), (n_phases, 2).
-        self.phase_centers = np.array([_center(ph.feet) for ph in self.phases[kept:]])
+        self.phase_centers = phase_centers(self.phases[kept:])
         if source is not None:
             self.phase_centers = np.concatenate([source.phase_centers[:kept], self.phase_centers])
         # The ZMP reference is piecewise linear with breakpoints at phase
         # boundaries: tabulate it there (and just before each, in case it jumps,
         # as with no double support) so that queries are one interpolation.
-        bounds = np.unique(
-            [0.0, self.duration] + [ph.start for ph in self.phases] + [ph.end for ph in self.phases]
+        if timed is not None:
+            self.zmp_breakpoints = timed.zmp_breakpoints
+        else:
+            bounds = np.unique(
+                [0.0, self.duration]
+                + [ph.start for ph in self.phases]
+                + [ph.end for ph in self.phases]
+            )
+            #: Times where the ZMP reference may bend, (k,).
+            self.zmp_breakpoints = np.unique(np.concatenate([bounds, bounds[1:] - _KNOT_GAP]))
+        #: The ZMP reference at :attr:`zmp_breakpoints`, (k, 2).
+        self.zmp_breakpoint_values = self._breakpoint_values(
+            timed if source is not None else None, same
         )
-        #: Times where the ZMP reference may bend, and its values there, (k,) and (k, 2).
-        self.zmp_breakpoints = np.unique(np.concatenate([bounds, bounds[1:] - _KNOT_GAP]))
-        self.zmp_breakpoint_values = self._zmp_reference_exact(self.zmp_breakpoints)
         self._polygons.forget_reused()
 
     def with_steps(self, steps) -> "ContactSchedule":
@@ -164,6 +156,26 @@ class ContactSchedule:
             self.plan.initial_left, self.plan.initial_right, tuple(steps), self.plan.timing
         )
         return ContactSchedule(plan, self.foot, reuse=self)
+
+    def _same_phase_times(self, other: "ContactSchedule") -> bool:
+        """Whether ``other`` has the phases' times of this schedule (the same timing and
+        number of steps: the phases are built from these alone)."""
+        return other.plan.timing == self.plan.timing and other.plan.nb_steps == self.plan.nb_steps
+
+    def _breakpoint_values(self, source: Optional["ContactSchedule"], first: int) -> np.ndarray:
+        """The ZMP reference at the breakpoints; where ``source`` (a schedule of the same
+        phase times whose steps before ``first`` are this one's) has the same value (the
+        breakpoints of the steps before ``first``: each depends on the stances of its step
+        and the next), its value."""
+        times = self.zmp_breakpoints
+        if source is None:
+            return self._zmp_reference_exact(times)
+        # (the step of each breakpoint as _zmp_reference_exact finds it)
+        step = np.floor((times - self.walk_start) / self.step_duration).astype(int)
+        new = step >= first
+        values = source.zmp_breakpoint_values.copy()
+        values[new] = self._zmp_reference_exact(times[new])
+        return values
 
     def _first_new_step(self, reused: Optional["ContactSchedule"]) -> int:
         """Index of the first step of this plan that is not the same footstep (the same
