@@ -13,6 +13,7 @@ from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators.mpc_steps import FootstepMpcGenerator
 from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
+from mpcwalk.qp.footstep_qp import FootstepQP
 from mpcwalk.qp.solvers import make_solver
 from mpcwalk.qp.solvers.quadprog_dense import solve_dense_quadprog
 
@@ -165,3 +166,31 @@ def test_a_publication_is_the_schedule_built_anew(first):
     # fewer steps: nothing of the phase times is taken
     shorter = schedule.with_steps(schedule.plan.steps[:8])
     assert_same_schedule(shorter, ContactSchedule(shorter.plan, shorter.foot))
+
+
+def test_the_cost_factor_of_a_varying_height_is_its_own():
+    """A prediction kept for a level tick lends nothing made from its rows (the cost factor,
+    the weighted rows) to a tick of a varying CoM height."""
+    gen = walked(23)
+    slots, qp = gen._slots, gen.qp
+    assert slots is not None and qp is not None
+    t = gen.time
+    times = qp.sample_times_at(t)
+    steps_k, variable = slots.free_steps(t, times[-1], gen.freeze_before_landing)
+    points = qp.constraint_times(t)
+    supports = slots.supports(points, variable, qp.nf)
+    steps = slots.step_variables(steps_k, variable, qp.nf, absolute=True, offset=np.zeros(2))
+    velocity = slots.reference_velocity(times)
+    qp.update(gen._state, t, velocity, supports, steps)
+    qp.cost_factor()  # kept in the level prediction
+    eta = (0.02 + 0.001 * np.arange(len(times)), 0.02 + 0.0005 * np.arange(len(points)))
+    qp.update(gen._state, t, velocity, supports, steps, eta)
+    # (to round-off: the kept prediction is of a first interval within 1 ns of this one)
+    fresh = FootstepQP(qp.lipm, qp.parameters, qp.nf)  # never updated at the level
+    fresh.update(gen._state, t, velocity, supports, steps, eta)
+    for mine, theirs in zip(qp.dense_arrays(), fresh.dense_arrays()):
+        np.testing.assert_allclose(mine, theirs, rtol=1e-9, atol=1e-12 * np.abs(theirs).max())
+    order, inverse = qp.cost_factor()
+    factor = np.linalg.inv(inverse)
+    P = qp.P[np.ix_(order, order)]
+    np.testing.assert_allclose(factor.T @ factor, P, atol=1e-9 * np.abs(P).max())

@@ -88,6 +88,7 @@ class FootstepQP:
         self.x0: np.ndarray | None = None
         self.supports: SampleSupports | None = None
         """The supports of the last :meth:`update`."""
+        self._sample_times: tuple[float, np.ndarray] | None = None  # of the last time asked
         self.sample_times = self.sample_times_at(0.0)
         self._initial_footsteps = np.zeros((nf, 2))
         self._reach_rows: tuple | None = None  # the reach rows, with the arrays they are of
@@ -98,9 +99,15 @@ class FootstepQP:
         samples meet the contact phases the same way from one tick to the next (a sliding
         grid made the footsteps jitter by a few mm at the sampling frequency); the first
         interval lasts between one control period and one sampling period."""
+        cached = self._sample_times
+        if cached is not None and cached[0] == t:  # (the same tick asks more than once)
+            return cached[1]
         Ts = self.parameters.sampling_period
         first = (np.floor(t / Ts + 1e-6) + 1.0) * Ts
-        return first + Ts * np.arange(self.N)
+        times = first + Ts * np.arange(self.N)
+        times.setflags(write=False)
+        self._sample_times = (t, times)
+        return times
 
     def constraint_times(self, t: float) -> np.ndarray:
         """Times where the ZMP is constrained for a tick at ``t`` [s], shape (N P,):
@@ -127,6 +134,9 @@ class FootstepQP:
         """Prediction matrices with the ZMP rows of a time-varying CoM height."""
         p = self.parameters
         out = dict(pred)
+        # what is made from the level rows is made again from these on demand
+        for derived in ("weighted", "H_jerk_inverse_factor"):
+            out.pop(derived, None)
         out["Pzs"] = pred["Pps"] - eta[:, None] * pred["Pas"]
         out["Pzu"] = pred["Ppu"] - eta[:, None] * pred["Pau"]
         out["Czs"] = pred["Cps"] - eta_points[:, None] * pred["Cas"]
@@ -138,6 +148,18 @@ class FootstepQP:
         )
         out["H_jerk"] = 0.5 * (H + H.T)
         return out
+
+    def _weighted(self, pred: dict) -> tuple[np.ndarray, np.ndarray]:
+        """``(zmp_weight Pzu^T, velocity_weight Pvu^T)`` of the prediction ``pred``, made
+        once per prediction (kept in it)."""
+        weighted = pred.get("weighted")
+        if weighted is None:
+            p = self.parameters
+            weighted = pred["weighted"] = (
+                p.zmp_weight * pred["Pzu"].T,
+                p.velocity_weight * pred["Pvu"].T,
+            )
+        return weighted
 
     def update(
         self,
@@ -170,9 +192,10 @@ class FootstepQP:
         S, M = supports.weights[last :: p.constraint_points], steps.reference_matrix
         centres = supports.centres[last :: p.constraint_points]
         wz, wf = p.zmp_weight, p.footstep_weight
+        zmp_rows, velocity_rows = self._weighted(pred)
         H = np.empty((N + nf, N + nf))
         H[:N, :N] = pred["H_jerk"]
-        H[:N, N:] = -wz * pred["Pzu"].T @ S
+        H[:N, N:] = -zmp_rows @ S
         H[N:, :N] = H[:N, N:].T
         H[N:, N:] = wz * S.T @ S + wf * M.T @ M
         scale = self.cost_scale = 2.0 / H.diagonal().max()  # largest diagonal entry of P is 1
@@ -180,7 +203,7 @@ class FootstepQP:
         P, q = np.zeros((self.n, self.n)), np.zeros(self.n)
         zmp_free, vel_free = pred["Pzs"] @ x0, pred["Pvs"] @ x0  # (N, 2)
         scaled = scale * H
-        for a, cols in enumerate(self._columns):
+        for a in range(2):
             # P[np.ix_(cols, cols)] = scaled, block by block: the jerks and the footsteps
             # of axis a are two ranges of columns
             jerk, foot = slice(a * N, (a + 1) * N), slice(2 * N + a * nf, 2 * N + (a + 1) * nf)
@@ -190,10 +213,8 @@ class FootstepQP:
             P[foot, foot] = scaled[N:, N:]
             z_res = zmp_free[:, a] - centres[:, a]
             v_res = vel_free[:, a] - velocity_reference[:, a]
-            q[cols[:N]] = scale * (
-                wz * pred["Pzu"].T @ z_res + p.velocity_weight * pred["Pvu"].T @ v_res
-            )
-            q[cols[N:]] = scale * (-wz * S.T @ z_res - wf * M.T @ steps.reference[:, a])
+            q[jerk] = scale * (zmp_rows @ z_res + velocity_rows @ v_res)
+            q[foot] = scale * (-wz * S.T @ z_res - wf * M.T @ steps.reference[:, a])
         self.P, self.q = P, q
         self.x0, self.time, self.sample_times = x0.copy(), float(t), times
         blocks = self._constraints(x0, supports, steps)
