@@ -325,10 +325,12 @@ class FootstepMpcGenerator(StepTimingAdaptation):
                 t = self.time
         times = qp.sample_times_at(t)
         steps_k, variable = slots.free_steps(t, times[-1], self.freeze_before_landing)
-        # the constraint points after the first interval's are the last tick's within a
-        # sampling interval
-        fresh = qp.parameters.constraint_points
-        supports = slots.supports(qp.constraint_times(t), variable, qp.nf, fresh=fresh)
+        # within a sampling interval, the constraint points are the last tick's but the first
+        # interval's; those of the next ticks are computed with them (their clock unchanged)
+        fresh, points = qp.parameters.constraint_points, qp.constraint_times(t)
+        later = ((self.tick + j) * self.control_period + self.time_offset for j in range(1, 10))
+        upcoming = qp.first_points(t, later)
+        supports = slots.supports(points, variable, qp.nf, fresh=fresh, upcoming=upcoming)
         offset = np.zeros(2)
         if len(steps_k):
             offset = self._capture_offset(t, float(slots.landing[steps_k[0]]))

@@ -17,6 +17,8 @@ same centre (paper M's polygonal reference, eq. 6-8, on the variable footsteps).
 <mpcwalk.qp.footstep_qp.FootstepQP.update>` takes.
 """
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError, InfeasibleStep
@@ -195,7 +197,13 @@ class FootstepSlots:
         return A, B, lam
 
     def supports(
-        self, times: np.ndarray, variable: np.ndarray, nf: int, *, fresh: int | None = None
+        self,
+        times: np.ndarray,
+        variable: np.ndarray,
+        nf: int,
+        *,
+        fresh: int | None = None,
+        upcoming: Sequence[np.ndarray] = (),
     ) -> SampleSupports:
         """ZMP constraints and centres at ``times`` [s] for ``nf`` footstep variables: the
         published polygons where both feet are fixed, blended rectangles on the footstep
@@ -203,23 +211,34 @@ class FootstepSlots:
 
         ``fresh``: only the first ``fresh`` times may be new: the points after them are
         taken from the previous call when their times, ``variable``, ``nf`` and the
-        published footsteps are the same (every point is computed on its own, so the
-        result is the one computed anew). The ticks of one sampling interval share every
-        constraint point but those of the first interval. None computes every point.
+        published footsteps are the same, and so are the first ones when they are among
+        the ``upcoming`` ones given then (every point is computed on its own, so the result
+        is the one computed anew). The ticks of one sampling interval share every
+        constraint point but those of the first interval; ``upcoming``: those of the next
+        ticks of the interval (``fresh`` times each). None computes every point.
         """
         if fresh is None:
             return self._supports(times, variable, nf)
-        later = times[fresh:]
+        later, first = times[fresh:], times[:fresh]
         key = (later.tobytes(), variable.tobytes(), nf, id(self.positions), id(self.current))
         cached = self._later_supports
         if cached is None or cached[0] != key:
+            heads = [first, *(head for head in upcoming if len(head) == fresh)]
+            both = self._supports(np.concatenate([*heads, later]), variable, nf)
+            firsts = {
+                h.tobytes(): both.between(j * fresh, (j + 1) * fresh) for j, h in enumerate(heads)
+            }
             # the key's objects are held with it: their ids are not reused meanwhile
             cached = self._later_supports = (
                 key,
-                self._supports(later, variable, nf),
+                both.between(len(heads) * fresh, len(both.rows)),
+                firsts,
                 (self.positions, self.current),
             )
-        return self._supports(times[:fresh], variable, nf).joined(cached[1])
+        head = cached[2].get(first.tobytes())
+        if head is None:
+            head = self._supports(first, variable, nf)
+        return head.joined(cached[1])
 
     def _supports(self, times: np.ndarray, variable: np.ndarray, nf: int) -> SampleSupports:
         """:meth:`supports`, every point computed."""

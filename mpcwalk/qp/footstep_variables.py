@@ -32,6 +32,16 @@ class SampleSupports:
     weights: np.ndarray
     centres: np.ndarray
 
+    def between(self, start: int, stop: int) -> "SampleSupports":
+        """The points ``start`` to ``stop`` (excluded), views of this one's arrays."""
+        return SampleSupports(
+            self.normals[start:stop],
+            self.offsets[start:stop],
+            self.rows[start:stop],
+            self.weights[start:stop],
+            self.centres[start:stop],
+        )
+
     def joined(self, later: "SampleSupports") -> "SampleSupports":
         """The points of this, then those of ``later`` (of the same footstep variables)."""
         return SampleSupports(
