@@ -21,7 +21,7 @@ problem is dense (jerks condensed) and rebuilt with numpy every tick from precom
 prediction products: the footstep columns change with the samples anyway.
 """
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 
 import numpy as np
 import qpsolvers
@@ -120,17 +120,16 @@ class FootstepQP:
         share = np.arange(1, P + 1) / P
         return (starts[:, None] + share[None, :] * (samples - starts)[:, None]).ravel()
 
-    def first_points(self, t: float, later: Iterable[float]) -> list[np.ndarray]:
+    def first_points(self, t: float, later: Iterable[float]) -> Iterator[np.ndarray]:
         """The constraint points of the first interval (the first ``constraint_points`` of
         :meth:`constraint_times`) of the ticks at the ``later`` times [s] that have the
-        samples of the tick at ``t``, up to the first that has not."""
+        samples of the tick at ``t``, up to the first that has not (made as they are
+        iterated)."""
         first, P = self.sample_times_at(t)[0], self.parameters.constraint_points
-        points = []
         for time in later:
             if self.sample_times_at(time)[0] != first:
-                break
-            points.append(self.constraint_times(time)[:P])
-        return points
+                return
+            yield self.constraint_times(time)[:P]
 
     def _prediction(self, first: float) -> dict:
         """Prediction matrices (``P?s`` (N, 3), ``P?u`` (N, N), as

@@ -17,7 +17,7 @@ same centre (paper M's polygonal reference, eq. 6-8, on the variable footsteps).
 <mpcwalk.qp.footstep_qp.FootstepQP.update>` takes.
 """
 
-from collections.abc import Sequence
+from collections.abc import Iterable
 
 import numpy as np
 
@@ -203,7 +203,7 @@ class FootstepSlots:
         nf: int,
         *,
         fresh: int | None = None,
-        upcoming: Sequence[np.ndarray] = (),
+        upcoming: Iterable[np.ndarray] = (),
     ) -> SampleSupports:
         """ZMP constraints and centres at ``times`` [s] for ``nf`` footstep variables: the
         published polygons where both feet are fixed, blended rectangles on the footstep
@@ -215,7 +215,8 @@ class FootstepSlots:
         the ``upcoming`` ones given then (every point is computed on its own, so the result
         is the one computed anew). The ticks of one sampling interval share every
         constraint point but those of the first interval; ``upcoming``: those of the next
-        ticks of the interval (``fresh`` times each). None computes every point.
+        ticks of the interval (``fresh`` times each; iterated only when the points after
+        the first ones are new). None computes every point.
         """
         if fresh is None:
             return self._supports(times, variable, nf)
