@@ -77,8 +77,8 @@ class ContactSchedule:
         # the same timing and number of steps: the same phase times as the reused schedule's
         timed = reused if reused is not None and self._same_phase_times(reused) else None
         if timed is not None:
-            self._phase_starts = timed._phase_starts
-            self._phase_start_list = timed._phase_start_list
+            self._phase_starts: np.ndarray = timed._phase_starts
+            self._phase_start_list: list[float] = timed._phase_start_list
         else:
             self._phase_starts = np.array([ph.start for ph in self.phases])
             self._phase_start_list = [float(start) for start in self._phase_starts]
@@ -95,7 +95,7 @@ class ContactSchedule:
             self._phase_b = np.concatenate([source._phase_b[:kept], self._phase_b])
         self._phase_A.setflags(write=False)
         self._phase_b.setflags(write=False)
-        self._phase_single = (
+        self._phase_single: np.ndarray = (
             timed._phase_single
             if timed is not None
             else np.array([ph.single_support for ph in self.phases])
@@ -119,7 +119,7 @@ class ContactSchedule:
             first_stance = self._stances[0]
             waypoint = 0.5 * (first_stance[Side.LEFT].xy + first_stance[Side.RIGHT].xy)
             self.torso_waypoints = np.concatenate([[waypoint], self.torso_waypoints])
-        self.support_positions = support_positions
+        self.support_positions: np.ndarray = support_positions
         #: Support centre of each phase (support foot, or midpoint of the feet), (n_phases, 2).
         self.phase_centers = phase_centers(self.phases[kept:])
         if source is not None:
@@ -128,7 +128,7 @@ class ContactSchedule:
         # boundaries: tabulate it there (and just before each, in case it jumps,
         # as with no double support) so that queries are one interpolation.
         if timed is not None:
-            self.zmp_breakpoints = timed.zmp_breakpoints
+            self.zmp_breakpoints: np.ndarray = timed.zmp_breakpoints
         else:
             bounds = np.unique(
                 [0.0, self.duration]

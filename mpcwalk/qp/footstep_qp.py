@@ -260,7 +260,7 @@ class FootstepQP:
             - self.parameters.zmp_margin
             - np.einsum("ra,ra->r", normals, zmp_free)
         )
-        reach = (steps.active, steps.predecessor, steps.predecessor_yaw)
+        reach: tuple[np.ndarray, ...] = (steps.active, steps.predecessor, steps.predecessor_yaw)
         reach += (steps.predecessor_xy, steps.lower, steps.upper)
         # the same read-only arrays (the slots keep them while the footsteps stay): the
         # same rows
