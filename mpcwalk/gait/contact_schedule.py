@@ -15,7 +15,8 @@ import numpy as np
 
 from mpcwalk.footsteps.footstep import FootGeometry, Footstep, FootstepPlan, Side
 from mpcwalk.gait.contact_phases import Phase, phase_centers
-from mpcwalk.gait.support_polygons import MAX_POLYGON_EDGES, SupportPolygons, pose_key
+from mpcwalk.gait.schedule_phases import PhaseBuilder
+from mpcwalk.gait.support_polygons import MAX_POLYGON_EDGES, SupportPolygons
 from mpcwalk.models.support_polygon import SupportPolygon
 
 _KNOT_GAP = 1e-9  # [s] knot placed just before each breakpoint of the ZMP reference
@@ -29,7 +30,11 @@ class ContactSchedule:
         foot: Sole dimensions used for the support polygons.
         reuse: A schedule with the same sole whose support polygons are reused for the
             feet (and pairs of feet) at the same poses; building a schedule with a few
-            footsteps moved (:meth:`with_steps`) then costs a fraction of a full build.
+            footsteps moved (:meth:`with_steps`) then costs a fraction of a full build. With
+            the same timing and number of steps, its phases before the first new step are
+            taken and the others built as queries reach them
+            (:class:`~mpcwalk.gait.schedule_phases.PhaseBuilder`): the same phases, the
+            cost of those asked for.
     """
 
     def __init__(
@@ -55,51 +60,27 @@ class ContactSchedule:
         self.walk_end = self.walk_start + plan.nb_steps * self.step_duration
         self.duration = self.walk_end + timing.final_duration
         self._stances = plan.stances()
-        # the phases of the steps before the first one that differs from the reused schedule's
-        # are the reused schedule's (their stances hold the same feet)
+        # the phases, built as queries reach them; those of the steps before the first one
+        # that differs from the reused schedule's are the reused schedule's (their stances
+        # hold the same feet)
+        self._builder = PhaseBuilder(plan, self._stances, self._polygons)
         first = self._first_new_step(reused)
         source: ContactSchedule | None = reused if first > 0 else None
-        kept = 0 if source is None else sum(1 for ph in source.phases if ph.step_index < first)
-        rects: list[dict[Side, SupportPolygon]] = []
-        phases: list[Phase] = []
-        self._phase_keys: list[tuple] = []
         if source is not None:
-            rects = source._rects[: first + 1]
-            phases = list(source.phases[:kept])
-            self._phase_keys = list(source._phase_keys[:kept])
-            for key, phase in zip(self._phase_keys, phases):  # their polygons, for later reuse
-                self._polygons.keep(key, phase.polygon)
-        self._rects: list[dict[Side, SupportPolygon]] = rects + [
-            {side: self._polygons.rect(f) for side, f in st.items()}
-            for st in self._stances[len(rects) :]
-        ]
-        self.phases: list[Phase] = self._build_phases(phases, first if source is not None else 0)
+            self._builder.keep(source._builder, first)
         # the same timing and number of steps: the same phase times as the reused schedule's
+        # (the other phases are built when asked for); else every phase now, for its times
         timed = reused if reused is not None and self._same_phase_times(reused) else None
         if timed is not None:
             self._phase_starts: np.ndarray = timed._phase_starts
             self._phase_start_list: list[float] = timed._phase_start_list
+            self._phase_single: np.ndarray = timed._phase_single
         else:
-            self._phase_starts = np.array([ph.start for ph in self.phases])
+            phases = self.phases
+            self._phase_starts = np.array([ph.start for ph in phases])
             self._phase_start_list = [float(start) for start in self._phase_starts]
-        A, b = zip(
-            *(
-                self._polygons.padded_halfplanes(key, ph.polygon)
-                for key, ph in zip(self._phase_keys[kept:], self.phases[kept:])
-            )
-        )
-        self._phase_A = np.array(A)
-        self._phase_b = np.array(b)
-        if source is not None:
-            self._phase_A = np.concatenate([source._phase_A[:kept], self._phase_A])
-            self._phase_b = np.concatenate([source._phase_b[:kept], self._phase_b])
-        self._phase_A.setflags(write=False)
-        self._phase_b.setflags(write=False)
-        self._phase_single: np.ndarray = (
-            timed._phase_single
-            if timed is not None
-            else np.array([ph.single_support for ph in self.phases])
-        )
+            self._phase_single = np.array([ph.single_support for ph in phases])
+        self._phase_centers: np.ndarray | None = None
         # Waypoints of paper M's ZMP reference: x_t[k] (midpoint of the feet at
         # each step boundary) and x_s[k] (support foot of step k); those of the stances
         # before the first new step are the reused schedule's.
@@ -120,20 +101,15 @@ class ContactSchedule:
             waypoint = 0.5 * (first_stance[Side.LEFT].xy + first_stance[Side.RIGHT].xy)
             self.torso_waypoints = np.concatenate([[waypoint], self.torso_waypoints])
         self.support_positions: np.ndarray = support_positions
-        #: Support centre of each phase (support foot, or midpoint of the feet), (n_phases, 2).
-        self.phase_centers = phase_centers(self.phases[kept:])
-        if source is not None:
-            self.phase_centers = np.concatenate([source.phase_centers[:kept], self.phase_centers])
         # The ZMP reference is piecewise linear with breakpoints at phase
         # boundaries: tabulate it there (and just before each, in case it jumps,
         # as with no double support) so that queries are one interpolation.
         if timed is not None:
             self.zmp_breakpoints: np.ndarray = timed.zmp_breakpoints
         else:
+            phases = self.phases
             bounds = np.unique(
-                [0.0, self.duration]
-                + [ph.start for ph in self.phases]
-                + [ph.end for ph in self.phases]
+                [0.0, self.duration] + [ph.start for ph in phases] + [ph.end for ph in phases]
             )
             #: Times where the ZMP reference may bend, (k,).
             self.zmp_breakpoints = np.unique(np.concatenate([bounds, bounds[1:] - _KNOT_GAP]))
@@ -141,13 +117,13 @@ class ContactSchedule:
         self.zmp_breakpoint_values = self._breakpoint_values(
             timed if source is not None else None, same
         )
-        self._polygons.forget_reused()
 
     def with_steps(self, steps) -> "ContactSchedule":
         """The same schedule with other landing poses (same initial feet, timing and sole).
 
-        Polygons of the feet that did not move are reused, so moving a few footsteps of a
-        20-step plan costs a fraction of building the schedule anew.
+        Polygons of the feet that did not move are reused, and the phases of the moved
+        steps are built when a query reaches them, so moving the footsteps of a 20-step plan
+        from the next landing on costs a fraction of building the schedule anew.
 
         Args:
             steps: Landing poses, one per step, alternating sides.
@@ -197,42 +173,34 @@ class ContactSchedule:
             first += 1
         return first
 
-    def _build_phases(self, phases: list[Phase], first: int) -> list[Phase]:
-        """The phases, after ``phases`` (those of the steps before ``first``, kept)."""
-        plan, T = self.plan, self.step_duration
+    # ----------------------------------------------------------------- phases
+    @property
+    def phases(self) -> list[Phase]:
+        """Every phase, in time order."""
+        self._builder.build_all()
+        return self._builder.phases
 
-        def double(start, end, k, stance_index):
-            st = self._stances[stance_index]
-            key = tuple(pose_key(f) for f in st.values())
-            poly = self._polygons.polygon(key, lambda: self._polygons.hull(st))
-            self._phase_keys.append(key)
-            phases.append(Phase(start, end, k, False, None, dict(st), poly))
+    @property
+    def _rects(self) -> list[dict[Side, SupportPolygon]]:
+        """The sole of each foot of each stance (every one built)."""
+        self._builder.build_all()
+        self._builder.soles(len(self._stances) - 1)
+        return self._builder.rects
 
-        if self.walk_start > 0.0 and not phases:
-            double(0.0, self.walk_start, -1, 0)
-        for k in range(first, plan.nb_steps):
-            step = plan.steps[k]
-            t0 = self.walk_start + k * T
-            support = step.side.other
-            if self.t_b > 0.0:
-                double(t0, t0 + self.t_b, k, k)
-            foot = self._stances[k][support]
-            self._phase_keys.append(pose_key(foot))
-            phases.append(
-                Phase(
-                    t0 + self.t_b,
-                    t0 + self.t_e,
-                    k,
-                    True,
-                    support,
-                    {support: foot},
-                    self._rects[k][support],
-                )
-            )
-            if self.t_e < T:
-                double(t0 + self.t_e, t0 + T, k, k + 1)
-        double(self.walk_end, max(self.duration, self.walk_end), plan.nb_steps, plan.nb_steps)
-        return phases
+    @property
+    def phase_centers(self) -> np.ndarray:
+        """Support centre of each phase (support foot, or midpoint of the feet), shape
+        (n_phases, 2), in [m]."""
+        if self._phase_centers is None:
+            self._phase_centers = phase_centers(self.phases)
+        return self._phase_centers
+
+    def leading_halfplanes(self, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Padded half-planes ``(A, b)`` of the first phases (read-only), shapes
+        (n, MAX_POLYGON_EDGES, 2) and (n, MAX_POLYGON_EDGES), and the number of edges of
+        each, (n,): at least the first ``count`` phases (or all), the later ones built only
+        when asked for (the footstep MPC's horizon reaches a few steps ahead)."""
+        return self._builder.arrays(count)
 
     # ----------------------------------------------------------------- queries
     def phase_index(self, times) -> np.ndarray:
@@ -248,7 +216,9 @@ class ContactSchedule:
 
     def phase(self, t: float) -> Phase:
         """Phase active at time ``t`` [s]."""
-        return self.phases[self.phase_at(t)]
+        index = self.phase_at(t)
+        self._builder.build_until(index + 1)
+        return self._builder.phases[index]
 
     def step_index(self, t: float) -> int:
         """Step active at ``t``: -1 before the walk, ``nb_steps`` after it."""
@@ -281,14 +251,16 @@ class ContactSchedule:
             (n, MAX_POLYGON_EDGES), ``A p <= b`` inside.
         """
         idx = self.phase_index(times)
-        return self._phase_A[idx], self._phase_b[idx]
+        A, b, _ = self._builder.arrays(int(idx.max()) + 1 if idx.size else 0)
+        return A[idx], b[idx]
 
     @property
     def phase_halfplanes(self) -> tuple[np.ndarray, np.ndarray]:
         """Padded half-planes of every phase's polygon, ``(A, b)`` of shapes
         (nb_phases, MAX_POLYGON_EDGES, 2) and (nb_phases, MAX_POLYGON_EDGES) (read-only
         views: computed once per schedule)."""
-        return self._phase_A, self._phase_b
+        A, b, _ = self._builder.arrays(len(self._phase_starts))
+        return A, b
 
     def support_center(self, times) -> np.ndarray:
         """Centre of the support foot in single support, midpoint of the feet in

@@ -133,13 +133,12 @@ class FootstepSlots:
                     "or plan the footsteps within it (VelocityPlanner with the same LegLimits)."
                 )
 
-    def _tabulate(self, schedule: ContactSchedule) -> None:
-        """Half-planes of the schedule's phases, padded, with a mask of the real rows."""
-        phases = schedule.phases
-        edges = np.fromiter((len(phase.polygon.b) for phase in phases), int, len(phases))
+    def _tabulate(self, schedule: ContactSchedule, count: int = 0) -> None:
+        """Half-planes of the schedule's first phases (at least ``count``; those the
+        schedule has built), padded, with a mask of the real rows."""
+        A, b, edges = schedule.leading_halfplanes(count)
         # the schedule's padded half-planes, the padding rows zero and masked out
         rows = np.arange(MAX_POLYGON_EDGES)[None, :] < edges[:, None]
-        A, b = schedule.phase_halfplanes
         self._phase_A = np.where(rows[..., None], A, 0.0)
         self._phase_b = np.where(rows, b, 0.0)
         self._phase_rows = rows
@@ -257,6 +256,8 @@ class FootstepSlots:
         weights = weights[:, :nf]
         moving = np.flatnonzero((va >= 0) | (vb >= 0))
         idx = self.current.phase_index(times + _BOUNDARY_EPS)
+        if len(idx) and idx.max() >= len(self._phase_rows):  # phases the tables lack
+            self._tabulate(self.current, int(idx.max()) + 1)
         # (fancy indexing copies)
         normals, offsets, rows = self._phase_A[idx], self._phase_b[idx], self._phase_rows[idx]
         if len(moving):
