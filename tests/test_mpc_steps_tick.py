@@ -14,6 +14,7 @@ from mpcwalk.generators.mpc_steps import FootstepMpcGenerator
 from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
 from mpcwalk.qp.footstep_qp import FootstepQP
+from mpcwalk.qp.footstep_supports import FootstepSlots
 from mpcwalk.qp.solvers import make_solver
 from mpcwalk.qp.solvers.quadprog_dense import solve_dense_quadprog
 
@@ -194,3 +195,19 @@ def test_the_cost_factor_of_a_varying_height_is_its_own():
     factor = np.linalg.inv(inverse)
     P = qp.P[np.ix_(order, order)]
     np.testing.assert_allclose(factor.T @ factor, P, atol=1e-9 * np.abs(P).max())
+
+
+def test_the_first_points_of_the_next_ticks_are_computed_with_the_interval(monkeypatch):
+    """The first constraint points the generator gives for the next ticks of a sampling
+    interval are, to the bit, those the ticks find: no tick computes its own."""
+    sizes = []
+    compute = FootstepSlots._supports
+
+    def counted(self, times, variable, nf):
+        sizes.append(len(times))
+        return compute(self, times, variable, nf)
+
+    monkeypatch.setattr(FootstepSlots, "_supports", counted)
+    gen = walked(300)
+    points = gen.qp.parameters.constraint_points if gen.qp is not None else 0
+    assert len(sizes) < 300 / 3 and points not in sizes
