@@ -81,10 +81,11 @@ class FootstepMpcGenerator(StepTimingAdaptation):
         solver: A back-end name. Default ``"quadprog"``. ``"quadprog-screened"``
             (quadprog on the rows near binding, then every row checked:
             :class:`~mpcwalk.qp.solvers.screened.ScreenedSolver`) gives the same plans to
-            1e-12 m, one to three of a tick's 268 rows binding; ``mpcwalk bench ticks``:
-            median tick 0.75 ms against 0.78 ms with ``"quadprog"`` and 0.97 ms with
-            ``"daqp"``, with the flywheel of ``mpc-hip`` (420 rows) 1.04 against 1.18 ms. It
-            is not the default: a walk's closed loop carries a 1e-12 m difference in the plans
+            1e-12 m, one to three of a tick's 268 rows binding; ``mpcwalk bench ticks`` (a
+            loaded 2-core machine): median tick 0.56 ms against 0.53 ms with ``"quadprog"``
+            (which calls quadprog directly) and 0.75 ms with ``"daqp"``, with the flywheel
+            of ``mpc-hip`` (420 rows) 1.22 against 1.18 ms; ``"daqp-direct"`` (set up anew
+            each tick) plans within 2e-12 m of quadprog, 0.9 ms. It is not the default: a walk's closed loop carries a 1e-12 m difference in the plans
             into different falls on the edge of a robustness world (one of 32 flat worlds of
             the small humanoid), and quadprog's plans are those of the published results. The
             QP is dense and rebuilt every tick, so ``"osqp-direct"``, ``"kkt"`` and CasADi do
