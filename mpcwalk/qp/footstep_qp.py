@@ -192,7 +192,7 @@ class FootstepQP:
         the constraint points (:meth:`constraint_times`), None at the model's constant
         height."""
         x0 = np.asarray(x0, dtype=float)
-        if x0.shape != (3, 2) or not np.all(np.isfinite(x0)):
+        if x0.shape != (3, 2) or not np.isfinite(x0).all():
             raise ConfigurationError(
                 "FootstepQP.update expects x0 of shape (3, 2) (rows position, velocity, "
                 f"acceleration; columns x, y) with finite values, got shape {x0.shape}."
@@ -247,18 +247,20 @@ class FootstepQP:
 
     def _constraints(self, x0, supports: SampleSupports, steps: StepVariables):
         N, nf = self.N, self.nf
-        point, row = np.nonzero(supports.rows)
-        normals = supports.normals[point, row]  # (m_z, 2)
+        # the real rows of every point, in order (np.nonzero's), gathered with take
+        flat = np.flatnonzero(supports.rows)
+        point = flat // supports.rows.shape[1]
+        normals = supports.normals.reshape(-1, 2).take(flat, axis=0)  # (m_z, 2)
         G_zmp = np.empty((len(point), self.n))
         G_zmp[:, self.n_base :] = 0.0  # a subclass's columns
-        Pzu, S = self._pred["Czu"][point], supports.weights[point]
-        zmp_free = self._pred["Czs"][point] @ x0
+        Pzu, S = self._pred["Czu"].take(point, axis=0), supports.weights.take(point, axis=0)
+        zmp_free = self._pred["Czs"].take(point, axis=0) @ x0
         for a in range(2):
             np.multiply(normals[:, a : a + 1], Pzu, out=G_zmp[:, a * N : (a + 1) * N])
             foot = G_zmp[:, 2 * N + a * nf : 2 * N + (a + 1) * nf]
             np.multiply(-normals[:, a : a + 1], S, out=foot)
         h_zmp = (
-            supports.offsets[point, row]
+            supports.offsets.reshape(-1).take(flat)
             - self.parameters.zmp_margin
             - np.einsum("ra,ra->r", normals, zmp_free)
         )

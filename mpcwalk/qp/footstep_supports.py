@@ -258,8 +258,9 @@ class FootstepSlots:
         idx = self.current.phase_index(times + _BOUNDARY_EPS)
         if len(idx) and idx.max() >= len(self._phase_rows):  # phases the tables lack
             self._tabulate(self.current, int(idx.max()) + 1)
-        # (fancy indexing copies)
-        normals, offsets, rows = self._phase_A[idx], self._phase_b[idx], self._phase_rows[idx]
+        # (take copies)
+        normals, offsets = self._phase_A.take(idx, axis=0), self._phase_b.take(idx, axis=0)
+        rows = self._phase_rows.take(idx, axis=0)
         if len(moving):
             blended, half = blended_rectangles(
                 self.yaws[A[moving]], self.yaws[B[moving]], lam[moving], self.current.foot
