@@ -4,7 +4,9 @@ import numpy as np
 import pytest
 from plans import velocity_schedule
 
+from mpcwalk.footsteps.footstep import FootGeometry, Footstep, Side
 from mpcwalk.gait.contact_schedule import ContactSchedule
+from mpcwalk.gait.support_polygons import SupportPolygons
 
 
 def chain(schedule: ContactSchedule, firsts, seed: int, read_each: bool):
@@ -75,3 +77,15 @@ def test_the_queries_of_a_partly_built_schedule():
         np.testing.assert_array_equal(mine, theirs)
     np.testing.assert_array_equal(partial.support_center(times), built.support_center(times))
     np.testing.assert_array_equal(partial.zmp_reference(times), built.zmp_reference(times))
+
+
+@pytest.mark.parametrize("pitch", [0.0, 0.3])
+def test_a_hull_on_the_shape_of_its_first_sole_is_the_hull_made_anew(pitch):
+    left = Footstep(Side.LEFT, [0.1, 0.12, 0.0], yaw=0.2, pitch=pitch)
+    right = Footstep(Side.RIGHT, [0.25, -0.05, 0.0], yaw=-0.1)
+    feet = {Side.LEFT: left, Side.RIGHT: right}
+    polygons, anew = SupportPolygons(FootGeometry()), SupportPolygons(FootGeometry())
+    polygons.rect(left)  # the first sole's shape made first
+    mine, theirs = polygons.hull(feet), anew.hull(feet)
+    for a, b in zip((mine.vertices, mine.A, mine.b), (theirs.vertices, theirs.A, theirs.b)):
+        np.testing.assert_array_equal(a, b)

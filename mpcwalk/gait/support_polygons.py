@@ -132,9 +132,11 @@ class SupportPolygons:
         )
 
         def local() -> SupportPolygon:
-            return SupportPolygon.union_hull(
-                (self.footprint((0.0, 0.0), first), self.footprint(offset, second))
-            )
+            # the first sole at the origin is its shape's (rect), when made already
+            sole = self._shapes.get(shape_key(first))
+            if sole is None:
+                sole = self.footprint((0.0, 0.0), first)
+            return SupportPolygon.union_hull((sole, self.footprint(offset, second)))
 
         return self._translated(shape, first.xy, local)
 

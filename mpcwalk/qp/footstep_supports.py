@@ -135,8 +135,11 @@ class FootstepSlots:
 
     def _tabulate(self, schedule: ContactSchedule, count: int = 0) -> None:
         """Half-planes of the schedule's first phases (at least ``count``; those the
-        schedule has built), padded, with a mask of the real rows."""
-        A, b, edges = schedule.leading_halfplanes(count)
+        schedule has built; none for -1), padded, with a mask of the real rows."""
+        E = MAX_POLYGON_EDGES
+        A, b, edges = np.zeros((0, E, 2)), np.zeros((0, E)), np.zeros(0, int)
+        if count >= 0:
+            A, b, edges = schedule.leading_halfplanes(count)
         # the schedule's padded half-planes, the padding rows zero and masked out
         rows = np.arange(MAX_POLYGON_EDGES)[None, :] < edges[:, None]
         self._phase_A = np.where(rows[..., None], A, 0.0)
@@ -385,7 +388,7 @@ class FootstepSlots:
             steps[k] = steps[k].moved(position=[*positions[2 + k], steps[k].position[2]])
         self.current = self.current.with_steps(steps)
         self.positions = positions
-        self._tabulate(self.current)
+        self._tabulate(self.current, -1)  # none: the phases are tabulated as they are reached
         return self.current
 
 
