@@ -9,6 +9,7 @@ until ``t_b``, single support until ``t_e``, double support until ``T``
 """
 
 import bisect
+import functools
 from typing import Optional
 
 import numpy as np
@@ -81,26 +82,6 @@ class ContactSchedule:
             self._phase_start_list = [float(start) for start in self._phase_starts]
             self._phase_single = np.array([ph.single_support for ph in phases])
         self._phase_centers: np.ndarray | None = None
-        # Waypoints of paper M's ZMP reference: x_t[k] (midpoint of the feet at
-        # each step boundary) and x_s[k] (support foot of step k); those of the stances
-        # before the first new step are the reused schedule's.
-        same = first if source is not None else 0
-        self.torso_waypoints = np.array(
-            [0.5 * (st[Side.LEFT].xy + st[Side.RIGHT].xy) for st in self._stances[same + 1 :]]
-        ).reshape(-1, 2)
-        support_positions = np.array(
-            [self._stances[k][plan.steps[k].side.other].xy for k in range(same, plan.nb_steps)]
-        ).reshape(-1, 2)
-        if source is not None:
-            self.torso_waypoints = np.concatenate(
-                [source.torso_waypoints[: same + 1], self.torso_waypoints]
-            )
-            support_positions = np.concatenate([source.support_positions[:same], support_positions])
-        else:
-            first_stance = self._stances[0]
-            waypoint = 0.5 * (first_stance[Side.LEFT].xy + first_stance[Side.RIGHT].xy)
-            self.torso_waypoints = np.concatenate([[waypoint], self.torso_waypoints])
-        self.support_positions: np.ndarray = support_positions
         # The ZMP reference is piecewise linear with breakpoints at phase
         # boundaries: tabulate it there (and just before each, in case it jumps,
         # as with no double support) so that queries are one interpolation.
@@ -113,10 +94,6 @@ class ContactSchedule:
             )
             #: Times where the ZMP reference may bend, (k,).
             self.zmp_breakpoints = np.unique(np.concatenate([bounds, bounds[1:] - _KNOT_GAP]))
-        #: The ZMP reference at :attr:`zmp_breakpoints`, (k, 2).
-        self.zmp_breakpoint_values = self._breakpoint_values(
-            timed if source is not None else None, same
-        )
 
     def with_steps(self, steps) -> "ContactSchedule":
         """The same schedule with other landing poses (same initial feet, timing and sole).
@@ -137,21 +114,6 @@ class ContactSchedule:
         """Whether ``other`` has the phases' times of this schedule (the same timing and
         number of steps: the phases are built from these alone)."""
         return other.plan.timing == self.plan.timing and other.plan.nb_steps == self.plan.nb_steps
-
-    def _breakpoint_values(self, source: Optional["ContactSchedule"], first: int) -> np.ndarray:
-        """The ZMP reference at the breakpoints; where ``source`` (a schedule of the same
-        phase times whose steps before ``first`` are this one's) has the same value (the
-        breakpoints of the steps before ``first``: each depends on the stances of its step
-        and the next), its value."""
-        times = self.zmp_breakpoints
-        if source is None:
-            return self._zmp_reference_exact(times)
-        # (the step of each breakpoint as _zmp_reference_exact finds it)
-        step = np.floor((times - self.walk_start) / self.step_duration).astype(int)
-        new = step >= first
-        values = source.zmp_breakpoint_values.copy()
-        values[new] = self._zmp_reference_exact(times[new])
-        return values
 
     def _first_new_step(self, reused: Optional["ContactSchedule"]) -> int:
         """Index of the first step of this plan that is not the same footstep (the same
@@ -174,6 +136,28 @@ class ContactSchedule:
         return first
 
     # ----------------------------------------------------------------- phases
+    # (the waypoints and the ZMP reference's values are made on first use: a schedule
+    # published by the footstep MPC may never be asked for them)
+    @functools.cached_property
+    def torso_waypoints(self) -> np.ndarray:
+        """Waypoints ``x_t[k]`` of paper M's ZMP reference: the midpoint of the feet at each
+        step boundary, shape (nb_steps + 1, 2), in [m]."""
+        return np.array([0.5 * (st[Side.LEFT].xy + st[Side.RIGHT].xy) for st in self._stances])
+
+    @functools.cached_property
+    def support_positions(self) -> np.ndarray:
+        """Waypoints ``x_s[k]`` of paper M's ZMP reference: the support foot of each step,
+        shape (nb_steps, 2), in [m]."""
+        stances, steps = self._stances, self.plan.steps
+        return np.array([stances[k][step.side.other].xy for k, step in enumerate(steps)]).reshape(
+            -1, 2
+        )
+
+    @functools.cached_property
+    def zmp_breakpoint_values(self) -> np.ndarray:
+        """The ZMP reference at :attr:`zmp_breakpoints`, shape (k, 2), in [m]."""
+        return self._zmp_reference_exact(self.zmp_breakpoints)
+
     @property
     def phases(self) -> list[Phase]:
         """Every phase, in time order."""
