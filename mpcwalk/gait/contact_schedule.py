@@ -53,18 +53,19 @@ class ContactSchedule:
         self._polygons: SupportPolygons = SupportPolygons(
             foot, reuse=reused._polygons if reused is not None else None
         )
-        timing = plan.timing
-        self.step_duration = timing.step_duration
-        self.t_b = timing.single_support_begin
-        self.t_e = timing.single_support_end
-        self.walk_start = timing.initial_duration
-        self.walk_end = self.walk_start + plan.nb_steps * self.step_duration
-        self.duration = self.walk_end + timing.final_duration
         self._stances = plan.stances()
         # the phases, built as queries reach them; those of the steps before the first one
         # that differs from the reused schedule's are the reused schedule's (their stances
         # hold the same feet)
         self._builder = PhaseBuilder(plan, self._stances, self._polygons)
+        # the timing's instants, the builder's
+        self.step_duration, self.t_b, self.t_e = (
+            self._builder.step_duration,
+            self._builder.t_b,
+            self._builder.t_e,
+        )
+        self.walk_start, self.walk_end = self._builder.walk_start, self._builder.walk_end
+        self.duration = self._builder.duration
         first = self._first_new_step(reused)
         source: ContactSchedule | None = reused if first > 0 else None
         if source is not None:
