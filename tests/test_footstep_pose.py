@@ -127,3 +127,21 @@ def test_schedule_polygons_are_the_horizontal_projection_of_tilted_soles():
     assert np.ptp(tilted.phases[-1].polygon.vertices[:, 0]) < 0.3 + 0.2 - 0.01
     # the height does not change the polygon: the same key
     assert pose_key(pitched) == pose_key(pitched.moved(position=[0.3, -0.1, 0.0]))
+
+
+@pytest.mark.parametrize("position", [[0.4, -0.1], (0.4, -0.1, 0.05), np.array([0.4, -0.1, 0.05])])
+def test_a_footstep_moved_to_a_new_position_only_equals_one_built_anew(position):
+    """Moving only the position (the footstep MPC's publications) skips the angles' checks
+    but not the position's: the same fields as a footstep built anew, read-only position."""
+    foot = Footstep(Side.RIGHT, [0.1, 0.2, 0.3], 0.4, 0.05, -0.1)
+    moved = foot.moved(position=position)
+    built = Footstep(Side.RIGHT, position, 0.4, 0.05, -0.1)
+    assert moved.side is built.side and np.array_equal(moved.position, built.position)
+    assert (moved.yaw, moved.roll, moved.pitch) == (built.yaw, built.roll, built.pitch)
+    assert moved.quaternion.tolist() == built.quaternion.tolist()
+    assert not moved.position.flags.writeable and moved.position.shape == (3,)
+    assert type(moved.yaw) is float and moved.side is Side.RIGHT
+    with pytest.raises(ConfigurationError, match="2 or 3 finite numbers"):
+        foot.moved(position=[np.nan, 0.0])
+    with pytest.raises(ConfigurationError, match="2 or 3 finite numbers"):
+        foot.moved(position=[0.0, 0.0, 0.0, 1.0])

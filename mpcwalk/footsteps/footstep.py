@@ -109,6 +109,20 @@ def _angle(name: str, value, bound: float | None = None) -> float:
     return angle + 0.0  # no negative zero
 
 
+def _checked_position(value) -> np.ndarray:
+    """A footstep's position: 2 or 3 finite numbers [m] as a read-only (3,) array (a
+    missing height is 0)."""
+    pos = np.asarray(value, dtype=float).ravel()
+    if pos.shape == (2,):
+        pos = np.array([pos[0], pos[1], 0.0])
+    if pos.shape != (3,) or not np.all(np.isfinite(pos)):
+        raise ConfigurationError(
+            f"Footstep position must be 2 or 3 finite numbers [m], got {value!r}."
+        )
+    pos.setflags(write=False)
+    return pos
+
+
 @dataclass(frozen=True)
 class Footstep:
     """Pose of a foot sole on the ground, flat or tilted.
@@ -135,17 +149,9 @@ class Footstep:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "side", Side.parse(self.side))
-        pos = np.asarray(self.position, dtype=float).ravel()
-        if pos.shape == (2,):
-            pos = np.array([pos[0], pos[1], 0.0])
-        if pos.shape != (3,) or not np.all(np.isfinite(pos)):
-            raise ConfigurationError(
-                f"Footstep position must be 2 or 3 finite numbers [m], got {self.position!r}."
-            )
+        object.__setattr__(self, "position", _checked_position(self.position))
         if not np.isfinite(self.yaw):
             raise ConfigurationError(f"Footstep yaw must be finite, got {self.yaw!r}.")
-        pos.setflags(write=False)
-        object.__setattr__(self, "position", pos)
         object.__setattr__(self, "yaw", float(self.yaw))
         object.__setattr__(self, "roll", _angle("roll", self.roll, MAX_FOOTSTEP_TILT))
         object.__setattr__(self, "pitch", _angle("pitch", self.pitch, MAX_FOOTSTEP_TILT))
@@ -231,6 +237,19 @@ class Footstep:
 
     def moved(self, position=None, yaw=None, roll=None, pitch=None) -> "Footstep":
         """Copy with a new position, yaw, roll and/or pitch (the others kept)."""
+        if yaw is None and roll is None and pitch is None and position is not None:
+            # only the position is new: the side and angles are this footstep's, checked
+            # already (a publication of the footstep MPC moves a dozen landings so)
+            moved = object.__new__(Footstep)
+            for name, value in (
+                ("side", self.side),
+                ("position", _checked_position(position)),
+                ("yaw", self.yaw),
+                ("roll", self.roll),
+                ("pitch", self.pitch),
+            ):
+                object.__setattr__(moved, name, value)
+            return moved
         return Footstep(
             self.side,
             self.position if position is None else position,
