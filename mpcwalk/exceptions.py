@@ -272,7 +272,8 @@ class PackageDataNotFound(MpcwalkError, FileNotFoundError):
 class SimulationModelError(ConfigurationError):
     """A figure of the simulated world lies outside its range: a noise, bias, resolution or
     latency of the sensor model (:class:`~mpcwalk.sim.sensing.model.SensorModel`), or a
-    trunk mass, CoM offset, friction or servo strength of the model mismatch
+    trunk mass, CoM offset, friction, servo strength, friction cone or impedance ratio of the
+    model mismatch
     (:class:`~mpcwalk.sim.model_mismatch.ModelMismatch`).
 
     Attributes:

@@ -3,6 +3,7 @@ applied to the simulator's model only, validated, serialisable."""
 
 import json
 
+import mujoco
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -82,6 +83,29 @@ def test_friction_sets_the_floor_and_soles_and_makes_them_slide():
     assert slides[0.05] > 0.03  # [m] measured 4.9e-2: the soles slide
 
 
+def test_an_elliptic_cone_with_a_stiff_friction_holds_a_sole_mujoco_s_default_lets_creep():
+    """MuJoCo's default contacts (pyramidal cone, impratio 1) let a loaded sole creep under a
+    tangential force below its friction's bound; the elliptic cone with impratio 10 holds
+    it. The robot stands on the floor with gravity tilted 8 deg (tan 8 deg = 0.14, well
+    under the friction coefficient): its soles should not move."""
+    robot = get_robot("bioloid-like")
+    creep = {}
+    for cone, impratio in ((None, None), ("elliptic", 10.0)):
+        sim = simulation(robot, friction_cone=cone, impratio=impratio)
+        if cone is not None:
+            assert sim.model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC
+            assert sim.model.opt.impratio == 10.0
+            assert robot.mj_model.opt.cone == mujoco.mjtCone.mjCONE_PYRAMIDAL  # its own
+        tilt = np.radians(8.0)
+        sim.model.opt.gravity[:] = 9.81 * np.array([np.sin(tilt), 0.0, -np.cos(tilt)])
+        start = sim.reset(robot.q0).sole_positions
+        for _ in range(100):  # 1 s
+            state = sim.step()
+        creep[cone] = np.abs(state.sole_positions - start)[:, 0].max()
+    assert creep[None] > 2.0 * creep["elliptic"]
+    assert creep["elliptic"] < 1e-3  # [m]
+
+
 def test_servo_strength_scales_gains_and_torque_limits():
     robot = get_robot("g1")
     sim = simulation(robot, servo_strength=0.5)
@@ -154,6 +178,8 @@ def test_to_dict_is_json_and_round_trips():
         "com_offset": [0.01, 0.0],
         "friction": 0.4,
         "servo_strength": 1.0,
+        "friction_cone": None,
+        "impratio": None,
     }
     assert ModelMismatch.from_dict(json.loads(json.dumps(values))) == perturbation
     assert ModelMismatch().to_dict()["friction"] is None
@@ -170,6 +196,8 @@ def test_to_dict_is_json_and_round_trips():
         ({"com_offset": (0.7, 0.0)}, r"each within \+-0.5 m, got \(0.7, 0.0\)"),
         ({"friction": 0.0}, r"friction must be a number in \[0.01, 10\], got 0.0"),
         ({"servo_strength": -1.0}, r"servo_strength must be a number in \[0.1, 10\]"),
+        ({"friction_cone": "round"}, r"friction_cone must be one of pyramidal, elliptic"),
+        ({"impratio": 0.5}, r"impratio must be a number in \[1, 100\], got 0.5"),
     ],
 )
 def test_bad_mismatches_raise_a_named_error(values, match):

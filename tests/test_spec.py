@@ -322,6 +322,8 @@ def _every_field_changed() -> dict:
         "com_offset": (0.01, 0.0),
         "friction": 0.8,
         "servo_strength": 0.9,
+        "friction_cone": "elliptic",
+        "impratio": 10.0,
         "actuation": "torque",
         "ground_tilt": 2.0,
         "ground_tilt_direction": 90.0,

@@ -169,8 +169,8 @@ def add_walk_options(p: argparse.ArgumentParser) -> None:
 _FIELDS = (
     "generator", "arm_swing", "swing_profile", "feedback", "path", "duration", "nb_steps",
     "step_duration", "double_support_ratio", "step_height", "control_period", "noise_scale",
-    "latency", "ideal", "state", "mass_scale", "friction", "servo_strength", "ground_tilt",
-    "ground_tilt_direction", "ground_roughness", "seed", "actuation",
+    "latency", "ideal", "state", "mass_scale", "friction", "servo_strength", "friction_cone",
+    "impratio", "ground_tilt", "ground_tilt_direction", "ground_roughness", "seed", "actuation",
 )  # fmt: skip
 
 

@@ -125,6 +125,21 @@ def add_world_options(p: argparse.ArgumentParser) -> None:
         help="friction coefficient of the feet on the floor (default: the robot model's)",
     )
     world.add_argument(
+        "--friction-cone",
+        choices=("pyramidal", "elliptic"),
+        default=S,
+        help="the simulator's friction cone (default: MuJoCo's pyramid); with --impratio 10, "
+        "elliptic keeps loaded soles from creeping down slopes",
+    )
+    world.add_argument(
+        "--impratio",
+        type=float,
+        default=S,
+        metavar="R",
+        help="MuJoCo's ratio of frictional to normal constraint impedance, in [1, 100] "
+        "(default: 1)",
+    )
+    world.add_argument(
         "--servo-strength",
         type=float,
         default=S,

@@ -32,6 +32,16 @@ FRICTION_RANGE = (0.01, 10.0)
 SERVO_STRENGTH_RANGE = (0.1, 10.0)
 """Accepted factors on the servo gains and torque limits."""
 
+FRICTION_CONES = {
+    "pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL,
+    "elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC,
+}
+"""MuJoCo's friction cones by name."""
+
+IMPRATIO_RANGE = (1.0, 100.0)
+"""Accepted ratios of the frictional to the normal constraints' impedance (MuJoCo's
+``impratio``)."""
+
 
 _FIX = "choose a value in that range (ModelMismatch() is the robot as modelled)"
 
@@ -60,6 +70,14 @@ class ModelMismatch:
         servo_strength: Factor on the position servos' stiffness, damping and torque
             limits, and on the torque motors' gain and limits (a joint gives that share of
             the torque it is asked), in [0.1, 10].
+        friction_cone: The contacts' friction cone, ``"pyramidal"`` or ``"elliptic"`` (None
+            keeps the model's: MuJoCo's default pyramid). With the default ``impratio`` of 1
+            MuJoCo's friction is soft: a loaded contact creeps under any tangential force
+            (a support sole slid 6 cm down a 5 deg ramp in a 12 s stance); an elliptic cone
+            with ``impratio`` 10 holds it (docs/concepts/terrain.md).
+        impratio: MuJoCo's ratio of the frictional to the normal constraints' impedance, in
+            [1, 100]; above 1 the friction is stiffer (MuJoCo advises it with the elliptic
+            cone). None keeps the model's.
 
     Raises:
         SimulationModelError: A value out of its range (the message gives the range).
@@ -69,6 +87,8 @@ class ModelMismatch:
     com_offset: tuple[float, float] = (0.0, 0.0)
     friction: float | None = None
     servo_strength: float = 1.0
+    friction_cone: str | None = None
+    impratio: float | None = None
 
     def __post_init__(self) -> None:
         set_field = object.__setattr__
@@ -95,6 +115,11 @@ class ModelMismatch:
             "servo_strength",
             _in_range("servo_strength", self.servo_strength, SERVO_STRENGTH_RANGE),
         )
+        if self.friction_cone is not None and self.friction_cone not in FRICTION_CONES:
+            expected = f"one of {', '.join(FRICTION_CONES)}"
+            raise _error("friction_cone", self.friction_cone, expected)(expected)
+        if self.impratio is not None:
+            set_field(self, "impratio", _in_range("impratio", self.impratio, IMPRATIO_RANGE))
 
     @property
     def is_nominal(self) -> bool:
@@ -124,6 +149,10 @@ class ModelMismatch:
         """
         if self.is_nominal:
             return
+        if self.friction_cone is not None:
+            model.opt.cone = FRICTION_CONES[self.friction_cone]
+        if self.impratio is not None:
+            model.opt.impratio = self.impratio
         model.body_mass[trunk] *= self.mass_scale
         model.body_inertia[trunk] *= self.mass_scale
         model.body_ipos[trunk, :2] += self.com_offset
@@ -151,4 +180,4 @@ def trunk_body(model: mujoco.MjModel, torso_frame: str) -> int:
     return int(body) if body >= 0 else int(model.jnt_bodyid[0])
 
 
-__all__ = ["ModelMismatch", "trunk_body"]
+__all__ = ["FRICTION_CONES", "IMPRATIO_RANGE", "ModelMismatch", "trunk_body"]

@@ -46,7 +46,8 @@ class WalkConfig:
         latency_s: Sensing-to-actuation latency of the controller's state [s] (0 on the
             oracle, the exact state of the current time).
         model_mismatch: How the simulated robot differed from the controller's model
-            (``mass_scale``, ``com_offset_m``, ``friction``, ``servo_strength``; see
+            (``mass_scale``, ``com_offset_m``, ``friction``, ``servo_strength``,
+            ``friction_cone``, ``impratio``; see
             :class:`~mpcwalk.sim.model_mismatch.ModelMismatch`).
         seed: Seed of the sensor noise.
     """

@@ -55,6 +55,8 @@ NOTES = {
     "com_offset": "[m] shift of the simulated torso's CoM (dx, dy)",
     "friction": "floor friction coefficient (unset: the robot model's)",
     "servo_strength": "factor on the servos' gains and torque limits",
+    "friction_cone": "pyramidal or elliptic (unset: MuJoCo's pyramid)",
+    "impratio": "MuJoCo's frictional-to-normal impedance ratio (unset: 1)",
     "actuation": "position (servos fed by the IK) or torque (motors fed by the inverse dynamics)",
     "ground_tilt": "[deg] slope of the ground",
     "ground_tilt_direction": "[deg] azimuth of the uphill direction (0: forward)",

@@ -249,6 +249,9 @@ class WalkSpec:
             del values["world"]["terrain"]
         if values["world"]["actuation"] == "position":  # position-servo walks keep theirs
             del values["world"]["actuation"]
+        for contact in ("friction_cone", "impratio"):  # walks in MuJoCo's default contacts too
+            if values["world"][contact] is None:
+                del values["world"][contact]
         text = json.dumps(values, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 

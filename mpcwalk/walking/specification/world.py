@@ -57,6 +57,11 @@ class WorldSpec:
         com_offset: Shift ``(dx, dy)`` [m] of the torso's CoM of the simulated robot.
         friction: Friction coefficient of the floor contacts (None: the model's).
         servo_strength: Factor on the servos' gains and torque limits.
+        friction_cone: The simulator's friction cone, ``"pyramidal"`` or ``"elliptic"`` (None:
+            MuJoCo's default pyramid, every stored result's).
+        impratio: MuJoCo's frictional-to-normal impedance ratio (None: the model's, 1);
+            ``friction_cone="elliptic", impratio=10`` keeps loaded soles from creeping on
+            slopes (:class:`~mpcwalk.sim.model_mismatch.ModelMismatch`).
         ground_tilt: Slope of the ground [deg], up towards ``ground_tilt_direction``.
         ground_tilt_direction: Azimuth of the uphill direction [deg] (0: forward, 90: left).
         ground_roughness: Largest height of the ground's random bumps [m] (0: flat).
@@ -82,6 +87,8 @@ class WorldSpec:
     com_offset: tuple[float, float] = (0.0, 0.0)
     friction: float | None = None
     servo_strength: float = 1.0
+    friction_cone: str | None = None
+    impratio: float | None = None
     ground_tilt: float = 0.0
     ground_tilt_direction: float = 0.0
     ground_roughness: float = 0.0
@@ -144,6 +151,8 @@ class WorldSpec:
             com_offset=self.com_offset,
             friction=self.friction,
             servo_strength=self.servo_strength,
+            friction_cone=self.friction_cone,
+            impratio=self.impratio,
         )
 
     def ground(self, *, seed: int) -> Ground:
