@@ -77,6 +77,8 @@ def test_options_are_validated_and_recorded_in_the_config_block():
         "com_offset": [0.005, -0.002],
         "friction": 0.8,
         "servo_strength": 0.9,
+        "friction_cone": None,
+        "impratio": None,
     }
     # two periods of latency (the first tick reads the readings of time 0)
     log = result.log
