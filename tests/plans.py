@@ -67,6 +67,16 @@ def velocity_schedule(velocity, nb_steps=20, *, step_duration=0.5, r_ds=0.2, hal
     )
 
 
+def tail_moved(schedule, first, delta):
+    """``schedule`` with the steps from ``first`` on moved by ``delta`` (x, y) [m], built
+    from it (``with_steps``: the tail of a footstep MPC's publication)."""
+    steps = list(schedule.plan.steps)
+    for k in range(first, len(steps)):
+        position = steps[k].position
+        steps[k] = steps[k].moved(position=[*(position[:2] + delta), position[2]])
+    return schedule.with_steps(steps)
+
+
 def kicked_walk(name, schedule, kick=(0.0, 0.0), at=1.5, **options):
     """The generator ``name`` on the small humanoid's LIPM over ``schedule``, its CoM
     velocity kicked by ``kick`` [m/s] at ``at`` [s]: the generator and its outputs."""

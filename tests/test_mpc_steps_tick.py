@@ -7,7 +7,7 @@ import warnings
 import numpy as np
 import pytest
 import qpsolvers
-from plans import velocity_schedule
+from plans import tail_moved, velocity_schedule
 
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators.mpc_steps import FootstepMpcGenerator
@@ -157,12 +157,7 @@ def test_a_publication_is_the_schedule_built_anew(first):
     schedule = velocity_schedule((0.1, 0.0, np.deg2rad(20.0)), 12)
     rng = np.random.default_rng(first)
     for _ in range(4):
-        delta = rng.normal(0.0, 2e-3, 2)
-        steps = list(schedule.plan.steps)
-        for k in range(first, len(steps)):
-            position = steps[k].position
-            steps[k] = steps[k].moved(position=[*(position[:2] + delta), position[2]])
-        schedule = schedule.with_steps(steps)
+        schedule = tail_moved(schedule, first, rng.normal(0.0, 2e-3, 2))
         assert_same_schedule(schedule, ContactSchedule(schedule.plan, schedule.foot))
     # fewer steps: nothing of the phase times is taken
     shorter = schedule.with_steps(schedule.plan.steps[:8])

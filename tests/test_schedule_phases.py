@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from plans import velocity_schedule
+from plans import tail_moved, velocity_schedule
 
 from mpcwalk.footsteps.footstep import FootGeometry, Footstep, Side
 from mpcwalk.gait.contact_schedule import ContactSchedule
@@ -16,12 +16,7 @@ def chain(schedule: ContactSchedule, firsts, seed: int, read_each: bool):
     rng = np.random.default_rng(seed)
     out = []
     for first in firsts:
-        delta = rng.normal(0.0, 2e-3, 2)
-        steps = list(schedule.plan.steps)
-        for k in range(first, len(steps)):
-            position = steps[k].position
-            steps[k] = steps[k].moved(position=[*(position[:2] + delta), position[2]])
-        schedule = schedule.with_steps(steps)
+        schedule = tail_moved(schedule, first, rng.normal(0.0, 2e-3, 2))
         if read_each:
             schedule.phase_halfplanes
         else:

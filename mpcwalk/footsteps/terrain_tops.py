@@ -177,12 +177,13 @@ class TerrainTops:
                     continue
             surface = self.terrain.surface_index(center[0], center[1])
             holds = bool(planar[i]) and (surface < 0 or self._stands_on(surface))
-            if not planar[i] and self._straddles(x[i], y[i]):
+            straddled = None if planar[i] else self._straddled(x[i], y[i])
+            if straddled is not None:
                 # over the joint of two tops it may straddle: it rests on both, or, at a
                 # crest, on the top its centre is over, away from the joint line
                 top = self.top(surface)
                 height = self.support(center, yaw).height
-                clear = not self._near_crest(x[i], y[i], float(center[0]))
+                clear = not self._near_crest(straddled, float(center[0]))
                 out.append(Place(offsets[i], tuple(center), strides[i], height, top, clear, clear))
                 continue
             if (
@@ -197,29 +198,27 @@ class TerrainTops:
             out.append(place)
         return out
 
-    def _near_crest(self, x: np.ndarray, y: np.ndarray, center_x: float) -> bool:
-        """Whether a sole centred at ``center_x`` [m] whose grown points are ``x``, ``y``
-        straddles a crest with its centre in :data:`CREST_BAND` about the joint."""
-        tops = np.unique(self.terrain.surface_indices(x, y))
+    def _near_crest(self, tops: tuple[int, int], center_x: float) -> bool:
+        """Whether a sole centred at ``center_x`` [m] over the joined ``tops`` straddles a
+        crest with its centre in :data:`CREST_BAND` about the joint."""
         behind, ahead = sorted(
-            (self.terrain.surfaces[int(t)] for t in tops), key=lambda surface: surface.x_min
+            (self.terrain.surfaces[t] for t in tops), key=lambda surface: surface.x_min
         )
         if ahead.slope >= behind.slope:  # a hollow: the sole rests on both tops
             return False
         back, front = (share * self.reach.sole_length for share in CREST_BAND)
         return behind.x_max - back < center_x < behind.x_max + front
 
-    def _straddles(self, x: np.ndarray, y: np.ndarray) -> bool:
-        """Whether the points of a grown sole lie over exactly two tops it may stand on,
-        :meth:`~mpcwalk.terrain.Terrain.joined` within the reach's kink."""
+    def _straddled(self, x: np.ndarray, y: np.ndarray) -> tuple[int, int] | None:
+        """The two tops the points of a grown sole lie over when it may straddle their
+        joint (both stood on, :meth:`~mpcwalk.terrain.Terrain.joined` within the reach's
+        kink), else None."""
         tops = np.unique(self.terrain.surface_indices(x, y))
-        return (
-            len(tops) == 2
-            and tops[0] >= 0
-            and self.reach.max_kink > 0.0
-            and self.terrain.joined(int(tops[0]), int(tops[1]), self.reach.max_kink)
-            and all(self._stands_on(int(top)) for top in tops)
-        )
+        if len(tops) != 2 or tops[0] < 0 or self.reach.max_kink <= 0.0:
+            return None
+        pair = (int(tops[0]), int(tops[1]))
+        joined = self.terrain.joined(*pair, self.reach.max_kink)
+        return pair if joined and all(self._stands_on(top) for top in pair) else None
 
     def _stands_on(self, surface: int) -> bool:
         """Whether a sole may stand on surface ``surface`` (not a pit, not too steep)."""

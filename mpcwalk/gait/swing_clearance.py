@@ -248,7 +248,7 @@ def _on_the_way(
     exempt: np.ndarray,
     lift: Footstep,
     landing: Footstep,
-    step_height: float = 0.0,
+    step_height: float,
 ) -> bool:
     """Whether the ground under the swept sole (``gaps``: the points' heights above it at
     z = 0, one row per sample ``h`` of the way) stays within :data:`LINE_TOLERANCE` of the

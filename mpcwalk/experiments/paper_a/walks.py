@@ -92,13 +92,13 @@ def placement_errors(result: WalkResult) -> tuple[np.ndarray, np.ndarray]:
     positions, yaws = [], []
     if not len(log):
         return np.zeros(0), np.zeros(0)
+    axes = 3 if result.spec.world.terrain is not None else 2
     for k, t in enumerate(landing_check_times(schedule)):
         if t > log.time[-1] + 1e-9:
             break
         i = min(int(np.searchsorted(log.time, t - 1e-9)), len(log) - 1)
         step = schedule.plan.steps[k]
         j = 0 if step.side is Side.LEFT else 1
-        axes = 3 if result.spec.world.terrain is not None else 2
         error = log.sole_positions[i, j, :axes] - step.position[:axes]
         positions.append(100.0 * float(np.linalg.norm(error)))
         yaws.append(np.degrees(abs(float(wrap_angle(log.sole_yaws[i, j] - step.yaw)))))

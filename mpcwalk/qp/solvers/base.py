@@ -59,3 +59,27 @@ def fixed_pattern(qp: QuadraticProgram, solver: str) -> FixedPatternProgram:
 def failure(name: str, status: str, elapsed: float) -> QPResult:
     """Result of a solve that gave no solution (``status`` says why; ``elapsed`` [s])."""
     return QPResult(None, None, False, status, elapsed, None, np.inf, None, None, name)
+
+
+def found(
+    name: str,
+    x: np.ndarray,
+    z: np.ndarray,
+    elapsed: float,
+    iterations: int,
+    residuals: tuple[float, float | None, float | None],
+) -> QPResult:
+    """Result of a solve that found ``x`` with the multipliers ``z`` in ``elapsed`` [s],
+    with its ``(primal, dual, gap)`` residuals."""
+    primal, dual, gap = residuals
+    return QPResult(x, z, True, "found", elapsed, iterations, primal, dual, gap, name)
+
+
+def dense_residuals(P, q, G, h, x, z) -> tuple[float, float, float]:
+    """Primal residual ``max(0, max(G x - h))``, dual residual ``||P x + q + G^T z||_inf``
+    and duality gap ``|x'Px + q'x + h'z|`` of ``(x, z)`` for the dense QP
+    ``min 1/2 x'Px + q'x, G x <= h``."""
+    Px = P @ x
+    primal = float(max(0.0, np.max(G @ x - h))) if len(h) else 0.0
+    dual = float(np.max(np.abs(Px + q + G.T @ z)))
+    return primal, dual, float(abs(x @ Px + q @ x + h @ z))

@@ -30,7 +30,7 @@ from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.qp.kept import kept
 from mpcwalk.qp.program import QuadraticProgram
 from mpcwalk.qp.result import QPResult
-from mpcwalk.qp.solvers.base import QPSolver, failure
+from mpcwalk.qp.solvers.base import QPSolver, dense_residuals, failure, found
 
 _INFINITY = 1e30  # DAQP's "no bound"
 
@@ -114,7 +114,7 @@ class DaqpSolver(QPSolver):
             primal_start = qp.shift_primal(self._previous, shift)
         self._qp, self._whitening = qp, None
         ready = self._setup(P, q, G, _writable(h), primal_start)
-        return self._solved(ready, start, lambda x, z: _residuals(P, q, G, h, x, z))
+        return self._solved(ready, start, lambda x, z: dense_residuals(P, q, G, h, x, z))
 
     def _solve_fixed(self, qp) -> QPResult:
         """A QP whose matrices keep their values from tick to tick (see the module's
@@ -141,7 +141,7 @@ class DaqpSolver(QPSolver):
             else:  # (no rows: DAQP takes no empty bound vector)
                 ready = model.update(f=q, bupper=h if len(h) else None) >= 0
             self._versions = versions
-            return self._solved(ready, start, lambda x, z: _residuals(P, q, G, h, x, z))
+            return self._solved(ready, start, lambda x, z: dense_residuals(P, q, G, h, x, z))
         if structured:
             q, h = qp.q, _writable(qp.u)
         else:
@@ -189,19 +189,7 @@ class DaqpSolver(QPSolver):
 
     def _found(self, x, z, elapsed: float, info, residuals) -> QPResult:
         """The result of a solve DAQP found, with its (primal, dual, gap) residuals."""
-        primal, dual, gap = residuals
-        return QPResult(
-            x=x,
-            y=z,
-            success=True,
-            status="found",
-            solve_time=elapsed,
-            iterations=int(info["iterations"]),
-            primal_residual=primal,
-            dual_residual=dual,
-            duality_gap=gap,
-            solver=self.name,
-        )
+        return found(self.name, x, z, elapsed, int(info["iterations"]), residuals)
 
     def _solve_rows(self, qp) -> QPResult:
         """A dense QP with equality rows (``dense_rows()``: ``lower <= A x <= upper``, the
@@ -304,12 +292,3 @@ class _Whitenings:
 def _writable(h: np.ndarray) -> np.ndarray:
     """``h`` as DAQP takes it (a writable buffer)."""
     return h if h.flags.writeable else h.copy()
-
-
-def _residuals(P, q, G, h, x, z) -> tuple[float, float, float]:
-    """Primal residual, dual residual and duality gap of ``(x, z)`` for the QP ``(P, q, G,
-    h)``."""
-    Px = P @ x
-    primal = float(max(0.0, np.max(G @ x - h))) if len(h) else 0.0
-    dual = float(np.max(np.abs(Px + q + G.T @ z)))
-    return primal, dual, float(abs(x @ Px + q @ x + h @ z))

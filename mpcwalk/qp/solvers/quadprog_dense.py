@@ -14,7 +14,7 @@ import numpy as np
 import quadprog
 
 from mpcwalk.qp.result import QPResult
-from mpcwalk.qp.solvers.base import failure
+from mpcwalk.qp.solvers.base import dense_residuals, failure, found
 
 
 def solve_dense_quadprog(
@@ -45,21 +45,8 @@ def solve_dense_quadprog(
             return failure(name, "error: matrix P is not positive definite", elapsed)
         return failure(name, "not found", elapsed)
     elapsed = time.perf_counter() - start
-    Px = P.dot(x)
-    primal = max(0.0, float(np.max(G.dot(x) - h))) if len(h) else 0.0
-    dual = float(np.linalg.norm(Px + q + G.T.dot(z), np.inf))
-    gap = float(abs(x.dot(Px) + q.dot(x) + h.dot(z)))
-    return QPResult(
-        x=x,
-        y=z,
-        success=True,
-        status="found",
-        solve_time=elapsed,
-        iterations=int(np.ravel(iterations)[0]),
-        primal_residual=primal,
-        dual_residual=dual,
-        duality_gap=gap,
-        solver=name,
+    return found(
+        name, x, z, elapsed, int(np.ravel(iterations)[0]), dense_residuals(P, q, G, h, x, z)
     )
 
 
