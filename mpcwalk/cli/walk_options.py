@@ -85,6 +85,15 @@ def add_walk_options(p: argparse.ArgumentParser) -> None:
         help="follow the planned footsteps without re-aiming",
     )
     c.add_argument(
+        "--hold-position",
+        dest="hold_position",
+        action="store_true",
+        default=S,
+        help="hold the footholds' positions in the world, not only their heading: each "
+        "landing from the support foot where the robot measures it (generators that follow "
+        "new footsteps: mpc, preview, static-qp)",
+    )
+    c.add_argument(
         "--arm-swing",
         type=float,
         default=S,
@@ -222,6 +231,9 @@ def spec_from_args(args: argparse.Namespace, *, out: Path) -> Any:
     if "dynamics_solver" in given:
         dynamics = {"dynamics_solver": given["dynamics_solver"]}
         spec = spec.replace(controller_options={**spec.controller.controller_options, **dynamics})
+    if "hold_position" in given:
+        hold = {"hold_position": bool(given["hold_position"])}
+        spec = spec.replace(controller_options={**spec.controller.controller_options, **hold})
     spec = _stabilizers(spec, given, by_hand=base_file is None and "controller" not in given)
     if (
         base_file is None

@@ -17,7 +17,7 @@ Stabilizers (:mod:`mpcwalk.control.stabilizers`) correct the targets of step 3 a
 targets of step 5 from a typed input. In closed loop the estimated CoM reaches the generator
 through an observer and the desired ZMP of step 5 is the generator's plus the DCM feedback
 (:mod:`mpcwalk.control.dcm_feedback`); the heading hold (:mod:`mpcwalk.control.heading_hold`)
-turns the footsteps to come by the measured heading error.
+turns the footsteps to come by the measured heading error (and shifts them, holding position).
 """
 
 import time
@@ -81,14 +81,13 @@ class WalkingController:
             IK, the shoulder pitch joints swing each hand with the opposite foot. 0 keeps the
             arms in their nominal posture; a robot without shoulder pitch joints walks
             without it and :attr:`notes` says so.
-        heading_hold: Hold the plan's heading (:mod:`mpcwalk.control.heading_hold`); None: on
-            with ``feedback`` when the generator follows new footsteps and no stabilizer re-aims.
+        heading_hold: Hold the plan's heading (None: :meth:`HeadingHold.maybe`).
         terrain: The ground the robot's map holds: the swing feet clear it (None: the floor).
+        hold_position: The heading hold holds the footholds' positions too (``position``).
         upright_pelvis: The default IK keeps the pelvis upright with the torso frame (paper
             M's rigid trunk on a robot with a waist; :class:`WholeBodyIK`).
 
-    When the generator's output carries a new schedule (footsteps moved), the controller
-    follows it from that tick on.
+    The controller follows a new schedule (moved footsteps) from the tick its generator gives it.
 
     Raises:
         ConfigurationError: A CoM height or control period that does not match, a gain out
@@ -116,6 +115,7 @@ class WalkingController:
         heading_hold: bool | None = None,
         terrain: Terrain | None = None,
         upright_pelvis: bool = False,
+        hold_position: bool = False,
     ) -> None:
         if not (np.isfinite(control_period) and control_period > 0.0):
             raise ConfigurationError(
@@ -156,7 +156,7 @@ class WalkingController:
         self.balance = make_balance(balance, generator.name) if self.feedback else None
         self.arm_swing, self.notes = arm_swing_for(robot, arm_swing)  # notes: what it left out
         self.heading_hold = HeadingHold.maybe(
-            schedule.plan, heading_hold, feedback, generator, stabilizer
+            schedule, heading_hold, feedback, generator, stabilizer, position=hold_position
         )
         self.faults = FaultMonitor()  # the tick's boundary checks (mpcwalk.control.faults)
         self.q_ref: np.ndarray | None = None
@@ -290,7 +290,7 @@ class WalkingController:
             raise ConfigurationError(msg)
         self.q_ref = q.copy()
         self.faults = FaultMonitor(self.faults.max_fault_ticks)
-        self.heading_hold = self.heading_hold and HeadingHold(self.heading_hold.plan)
+        self.heading_hold = self.heading_hold and self.heading_hold.restarted()
         self.reference.restart()
         self.dcm_feedback.set_schedule(self.schedule)
         com = self.robot.compute_com(q)
