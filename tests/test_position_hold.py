@@ -125,3 +125,20 @@ def test_g1_climbs_stairs_with_its_landings_on_the_plan_when_the_position_is_hel
         errors.append(np.linalg.norm(log.estimated_sole_positions[i, j, :2] - step.xy))
     assert len(errors) == m.steps_planned and max(errors) < 0.01
     assert m.landing_error_3d_cm_mean < 1.5
+
+
+def test_the_corrections_add_up_to_the_hold_s_turn():
+    """Each correction is what its step added: a support foot that stays 3 deg off the
+    model's at two steps in a row turns the footsteps once, and the total is the 3 deg."""
+    schedule = arc_schedule((0.06, 0.0, 0.0), nb_steps=10)
+    hold = HeadingHold(schedule.plan, position=True)
+    turn = math.radians(3.0)
+    held = hold.update(
+        _check_time(schedule, 3),
+        schedule,
+        _estimate(schedule.plan.support_foot(3), -turn, (0.0, 0.0)),
+    )
+    # the next support foot, measured where the model holds it turned by the same error
+    support = held.plan.support_foot(4)
+    hold.update(_check_time(held, 4), held, _estimate(support, -turn, (0.0, 0.0)))
+    assert hold.total_correction == pytest.approx(turn, abs=1e-12)

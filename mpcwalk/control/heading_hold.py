@@ -39,7 +39,7 @@ import numpy as np
 
 from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side, wrap_angle
+from mpcwalk.footsteps.footstep import Footstep, FootstepPlan, Side, rotation_2d, wrap_angle
 from mpcwalk.gait.contact_schedule import ContactSchedule
 
 #: Below this yaw error [rad] the footsteps are left alone (no schedule rebuilt).
@@ -87,7 +87,8 @@ class HeadingHold:
         self.corrections: list[tuple[int, float]] = []
         """(step, turn [rad]) of every correction made."""
         self.shifts: list[tuple[int, float]] = []
-        """(step, shift [m]) of every correction made holding the position."""
+        """(step, shift [m]) of every correction made holding the position (the change of
+        the hold's shift at that step)."""
         self._held_motion: tuple[float, np.ndarray] = (0.0, np.zeros(2))
 
     def restarted(self) -> "HeadingHold":
@@ -183,8 +184,7 @@ class HeadingHold:
         if norm > self.max_shift:
             shift = last_shift + change * (self.max_shift / norm)
         self._held_motion = (turn, shift)
-        c, s = math.cos(turn), math.sin(turn)
-        rotation = np.array([[c, -s], [s, c]])
+        rotation = rotation_2d(turn)
         steps = list(schedule.plan.steps)
         moved = False
         for j in range(k, len(steps)):
@@ -202,8 +202,8 @@ class HeadingHold:
             moved = True
         if not moved:
             return None
-        self.corrections.append((k, turn))
-        self.shifts.append((k, float(np.linalg.norm(shift))))
+        self.corrections.append((k, turn - last_turn))  # what this step added
+        self.shifts.append((k, float(np.linalg.norm(shift - last_shift))))
         return schedule.with_steps(steps)
 
 
