@@ -204,12 +204,19 @@ def test_joint_velocity_filter_follows_a_sine_through_quantisation():
 
 
 def _standing_estimate(
-    name: str, *, seconds: float, tilt: np.ndarray | None = None, **sensor_figures
+    name: str,
+    *,
+    seconds: float,
+    tilt: np.ndarray | None = None,
+    start_tilt: np.ndarray | None = None,
+    **sensor_figures,
 ):
     """Estimate of ``name`` standing still at ``q0`` for ``seconds`` from its sensor model's
     readings (noise, bias, quantisation, one period of latency); the first reading's
-    accelerometer turned by ``tilt`` [rad] gives the estimate an initial attitude error;
-    ``sensor_figures`` replace figures of the sensor model.
+    accelerometer is turned by ``tilt`` [rad] (a jolt); the estimator's attitude is turned
+    by ``start_tilt`` [rad] after its reset, an initial attitude error (the first estimate
+    returned is then the first tick's); ``sensor_figures`` replace figures of the sensor
+    model.
 
     Returns:
         The robot, the first and last estimates, the last readings and the tilt [deg] the
@@ -221,10 +228,14 @@ def _standing_estimate(
     resolution = SensorModel.for_robot(robot).encoder_resolution  # the data sheet's
     estimator = Estimator(robot, control_period=PERIOD, encoder_resolution=resolution)
     first = estimator.reset(sensors.reset(standing_readings(robot, 0.0, tilt=tilt)), robot.q0)
+    if start_tilt is not None:
+        estimator.attitude.reset(pin.exp3(start_tilt) @ estimator.attitude.rotation)
     readings = estimate = None
     for k in range(1, round(seconds / PERIOD) + 1):
         readings = sensors.read(standing_readings(robot, k * PERIOD))
         estimate = estimator.update(readings)
+        if k == 1 and start_tilt is not None:
+            first = estimate  # the attitude error after one tick
     exact = standing_readings(robot, 0.0).imu.accelerometer
     biased = exact + sensors.accelerometer_bias
     bias_tilt = math.degrees(
@@ -244,8 +255,8 @@ def _truth(name: str):
 
 @pytest.mark.parametrize("name", ["bioloid-like", "g1", "talos"])
 def test_a_standing_robot_s_estimate_converges(name):
-    """From a 3 degree attitude error at the start (a jolted first reading), 30 s standing
-    with the robot's sensors: the tilt converges below what the accelerometer's bias alone
+    """From a 3 degree attitude error at the start (the attitude turned after the reset),
+    30 s standing with the robot's sensors: the tilt converges below what the accelerometer's bias alone
     would make it (5 mg per axis, which the accelerometer cannot tell from a tilt) because
     the flat feet give the vertical through the legs; the heading drifts with the
     gyroscope's residual bias; the CoM is off by the tilt's lever arm. Talos's IMU sits
@@ -253,19 +264,19 @@ def test_a_standing_robot_s_estimate_converges(name):
     if name not in _available_robots():
         pytest.skip(f"{name} is not installed")
     robot, first, estimate, readings, bias_tilt = _standing_estimate(
-        name, seconds=30.0, tilt=np.radians([2.0, -2.0, 0.0])
+        name, seconds=30.0, start_tilt=np.radians([2.0, -2.0, 0.0])
     )
     com, rotation = _truth(name)
-    assert _tilt(first.base_rotation, rotation) > 2.5  # measured 2.83 deg at the start
+    assert _tilt(first.base_rotation, rotation) > 2.5  # measured 2.83 deg after one tick
     tilt = _tilt(estimate.base_rotation, rotation)
-    # 0.22 to 0.26 deg where the accelerometer alone gives 0.59 to 0.71 deg (its bias tilt)
+    # 0.23 to 0.27 deg where the accelerometer alone gives 0.59 to 0.71 deg (its bias tilt)
     assert tilt < 0.5 * bias_tilt
     # 0.01 deg/s of residual gyroscope bias per axis: a 1 sigma heading drift of 0.3 deg
     assert _rotation_angle(estimate.base_rotation, rotation) < 1.0
     lever = robot.com_height * math.radians(tilt)  # what the tilt error moves the CoM by
-    # measured 0.73 / 3.57 / 5.45 mm for levers of 0.88 / 2.71 / 4.04 mm
+    # measured 0.76 / 3.67 / 5.48 mm for levers of 0.91 / 2.78 / 4.06 mm
     assert np.linalg.norm(estimate.com - com) < lever + 2e-3
-    # 3.0 / 5.2 / 7.5 mm/s: the large robots' legs are trusted more than the accelerometer
+    # 3.0 / 5.4 / 7.6 mm/s: the large robots' legs are trusted more than the accelerometer
     assert np.linalg.norm(estimate.com_velocity) < 0.01
     assert estimate.left_foot.in_contact and estimate.right_foot.in_contact
     assert estimate.sensors is readings and estimate.source == "estimator"
@@ -278,14 +289,32 @@ def test_a_standing_robot_s_estimate_converges_to_millimetres_with_a_calibrated_
     robot, _, estimate, _, _ = _standing_estimate(
         name,
         seconds=30.0,
-        tilt=np.radians([2.0, -2.0, 0.0]),
+        start_tilt=np.radians([2.0, -2.0, 0.0]),
         accelerometer_bias_std=0.0,
         accelerometer_bias_random_walk=0.0,
     )
     com, rotation = _truth(name)
-    assert _tilt(estimate.base_rotation, rotation) < 0.1  # measured 0.044, 0.050 deg
-    assert np.linalg.norm(estimate.com - com) < 1e-3  # measured 0.23, 0.63 mm
-    assert np.linalg.norm(estimate.base_position - robot.q0[:3]) < 2e-3  # measured 0.1, 1.4 mm
+    assert _tilt(estimate.base_rotation, rotation) < 0.1  # measured 0.019, 0.009 deg
+    assert np.linalg.norm(estimate.com - com) < 1e-3  # measured 0.09, 0.18 mm
+    assert np.linalg.norm(estimate.base_position - robot.q0[:3]) < 2e-3  # measured 0.28, 0.20 mm
+
+
+@pytest.mark.parametrize("name", ["bioloid-like", "g1"])
+def test_the_estimate_starts_with_the_soles_flat_whatever_the_accelerometer_reads(name):
+    """On flat soles the estimator's world is the soles' (roll and pitch set by the loaded
+    soles): the first estimate has them flat whatever the first reading of the accelerometer
+    says, a jolt or gravity tilted by a sloping ground, so that a robot whose sensors read
+    gravity at once (a torque-controlled robot at rest) starts in the same world as one
+    whose first reading does not (a robot settling on its servos). With a world of gravity's
+    own (no foot tilt correction) the accelerometer sets them, as it reads gravity."""
+    robot = get_robot(name)
+    readings = standing_readings(robot, 0.0, tilt=np.radians([3.0, -2.0, 0.0]))
+    rotation = pin.Quaternion(robot.q0[3:7]).matrix()
+    soles = Estimator(robot, control_period=PERIOD).reset(readings, robot.q0)
+    assert _tilt(soles.base_rotation, rotation) < 1e-9  # measured 0
+    gravity = Estimator(robot, control_period=PERIOD, foot_tilt_gain=0.0, flat_ground=False)
+    leaning = gravity.reset(readings, robot.q0)
+    assert abs(_tilt(leaning.base_rotation, rotation) - 3.6) < 0.1  # the jolt: 3.61 deg
 
 
 @functools.cache

@@ -13,7 +13,8 @@ One :meth:`Estimator.update` per control tick composes:
    joints between the base and the IMU's link: Talos's IMU sits upside down in its torso);
 4. the feet's contacts (:class:`~mpcwalk.estimation.contact_detector.ContactDetector`);
 5. the base position and velocity (:class:`~mpcwalk.estimation.base_estimator.BaseEstimator`):
-   the accelerometer fused with the leg kinematics of the feet in contact;
+   the accelerometer, less gravity as it is read in the world (item 8), fused with the leg
+   kinematics of the feet in contact;
 6. the tilt corrected with the accelerometer, from which the IMU's linear acceleration (the
    time derivative of its velocity as the legs give it) is removed first: a walking robot's
    accelerometer reads its sway as much as gravity;
@@ -188,9 +189,10 @@ class Estimator:
         """Start estimating from the first readings and the configuration the walk starts from.
 
         The base position and heading come from ``q_initial`` (the planned start, known to
-        the controller); roll and pitch come from the accelerometer when it reads gravity
-        (else from ``q_initial``); the feet in contact are anchored where ``q_initial`` puts
-        them.
+        the controller); so do roll and pitch while the soles set them (the world is the
+        soles': they start flat, whatever the accelerometer reads, a jolt or gravity tilted
+        by a slope), else the accelerometer's when it reads gravity; the feet in contact are
+        anchored where ``q_initial`` puts them.
 
         Args:
             readings: The first sensor readings.
@@ -209,7 +211,8 @@ class Estimator:
         rotation = pin.Quaternion(q_initial[3:7]).normalized().matrix()
         roll, pitch, yaw = rpy_of(rotation)
         accelerometer = np.asarray(readings.imu.accelerometer, dtype=float)
-        if self.attitude.accelerometer_weight(accelerometer) > 0.5:
+        soles_world = self.foot_tilt_gain > 0.0 and self.terrain is None
+        if not soles_world and self.attitude.accelerometer_weight(accelerometer) > 0.5:
             roll, pitch = tilt_from_accelerometer(pass_.imu_rotation @ accelerometer)
         rotation = pin.rpy.rpyToMatrix(roll, pitch, yaw)
         self.attitude.reset(rotation @ pass_.imu_rotation)
@@ -260,8 +263,7 @@ class Estimator:
         angular_velocity = (
             pass_.imu_rotation @ self.attitude.corrected_gyro(gyro) - pass_.imu_angular_velocity
         )
-        acceleration = imu_rotation @ accelerometer
-        acceleration[2] -= self.gravity
+        acceleration = imu_rotation @ accelerometer + self.gravity_tilt.gravity(self.gravity)
         forces = self._normal_forces(readings)
         in_contact = np.array(self.contacts.update(forces))
         points = self._contact_points(readings, forces)

@@ -21,7 +21,9 @@ the tilt ``g_xy / g_z`` (``tan(theta)`` towards the uphill azimuth) is
    target's velocity, two into its acceleration).
 
 :class:`GravityTilt` holds that state; :class:`~mpcwalk.estimation.estimator.Estimator` feeds
-it and puts its value in ``EstimatedState.ground_tilt``.
+it, puts its value in ``EstimatedState.ground_tilt`` and adds its :meth:`GravityTilt.gravity`
+to the specific force to predict the base's acceleration (on a slope, gravity less only its
+vertical part left ``g tan(theta)`` of acceleration in the prediction).
 """
 
 import math
@@ -92,6 +94,16 @@ class GravityTilt:
         if not (tilt[0] or tilt[1]):
             return None
         return tilt.copy()
+
+    def gravity(self, norm: float) -> np.ndarray:
+        """Gravity of norm ``norm`` [m/s^2] in the world as it reads so far, shape (3,):
+        ``g_z (t, 1)`` with the tilt ``t`` (:attr:`value`) and ``g_z = -norm / sqrt(1 +
+        |t|^2)``; exactly ``(0, 0, -norm)`` while the ground reads level."""
+        tilt = self._stages[-1]
+        if not (tilt[0] or tilt[1]):
+            return np.array((0.0, 0.0, -norm))
+        vertical = -norm / math.sqrt(1.0 + float(tilt[0]) ** 2 + float(tilt[1]) ** 2)
+        return np.array((vertical * float(tilt[0]), vertical * float(tilt[1]), vertical))
 
     def update(
         self,
