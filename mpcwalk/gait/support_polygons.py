@@ -132,11 +132,16 @@ class SupportPolygons:
         )
 
         def local() -> SupportPolygon:
-            # the first sole at the origin is its shape's (rect), when made already
-            sole = self._shapes.get(shape_key(first))
+            # each sole at the origin is its shape's (rect), when made already; the second
+            # one's corners moved by the offset are the corners of its footprint there (the
+            # same sums), and the hull depends on the set of corners only
+            sole, other = self._shapes.get(shape_key(first)), self._shapes.get(shape_key(second))
             if sole is None:
                 sole = self.footprint((0.0, 0.0), first)
-            return SupportPolygon.union_hull((sole, self.footprint(offset, second)))
+            if other is None:
+                other = self.footprint((0.0, 0.0), second)
+            corners = np.vstack((sole.vertices, other.vertices + offset))
+            return SupportPolygon.from_vertices(corners)
 
         return self._translated(shape, first.xy, local)
 
