@@ -190,9 +190,10 @@ class Estimator:
 
         The base position and heading come from ``q_initial`` (the planned start, known to
         the controller); so do roll and pitch while the soles set them (the world is the
-        soles': they start flat, whatever the accelerometer reads, a jolt or gravity tilted
-        by a slope), else the accelerometer's when it reads gravity; the feet in contact are
-        anchored where ``q_initial`` puts them.
+        soles', a level floor's or a terrain map's: they start as planned, flat on their
+        ground, whatever the accelerometer reads, a jolt or gravity tilted by a slope), else
+        the accelerometer's when it reads gravity; the feet in contact are anchored where
+        ``q_initial`` puts them.
 
         Args:
             readings: The first sensor readings.
@@ -211,8 +212,7 @@ class Estimator:
         rotation = pin.Quaternion(q_initial[3:7]).normalized().matrix()
         roll, pitch, yaw = rpy_of(rotation)
         accelerometer = np.asarray(readings.imu.accelerometer, dtype=float)
-        soles_world = self.foot_tilt_gain > 0.0 and self.terrain is None
-        if not soles_world and self.attitude.accelerometer_weight(accelerometer) > 0.5:
+        if self.foot_tilt_gain == 0.0 and self.attitude.accelerometer_weight(accelerometer) > 0.5:
             roll, pitch = tilt_from_accelerometer(pass_.imu_rotation @ accelerometer)
         rotation = pin.rpy.rpyToMatrix(roll, pitch, yaw)
         self.attitude.reset(rotation @ pass_.imu_rotation)
