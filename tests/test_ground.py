@@ -154,3 +154,20 @@ def test_gravity_tilt_options_are_checked_and_a_level_start_stays_exactly_level(
     for _ in range(100):  # 0.6 deg of tilt (an accelerometer bias): under the deadband
         tilt.update(up, still, normals, np.array([0.5, 0.5]), 1.0, True, 0.01)
     assert tilt.value is None and tilt.raw[0] == pytest.approx(0.1 / 9.81)
+
+
+def test_gravity_as_read_is_vertical_on_a_level_floor_and_downhill_on_a_slope():
+    # the estimator predicts the base's acceleration with it: on a slope, gravity less only
+    # its vertical part left g tan(theta) of horizontal acceleration in the prediction
+    level, tilted = GravityTilt(), GravityTilt()
+    normals = np.tile([0.0, 0.0, 1.0], (2, 1))
+    for _ in range(300):  # 3 s standing: the start's average, then the smoothing
+        level.update(np.array([0.1, 0.0, 9.81]), np.zeros(3), normals, np.ones(2), 1.0, True, 0.01)
+        tilted.update(np.array([0.6, 0.0, 9.79]), np.zeros(3), normals, np.ones(2), 1.0, True, 0.01)
+    assert np.array_equal(level.gravity(9.81), [0.0, 0.0, -9.81])  # within the deadband
+    t = tilted.value
+    assert t is not None and t[0] == pytest.approx(0.6 / 9.79, rel=1e-3)  # 3.5 deg uphill +x
+    g = tilted.gravity(9.81)
+    assert np.linalg.norm(g) == pytest.approx(9.81, rel=1e-12)
+    assert g[:2] / g[2] == pytest.approx(t, rel=1e-12)  # the tilt it reads: g_xy / g_z
+    assert g[0] < 0.0  # downhill

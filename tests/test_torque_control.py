@@ -177,7 +177,9 @@ def test_g1_walks_on_motors_up_a_tilted_ground():
     # while its world is the soles' (the loaded soles pull roll and pitch to theirs): it
     # started 3.8 deg off its own world, its CoM 4.2 cm off (RMS), and the walk stopped
     # after one step, the MPC's solves failing. It now starts with the soles flat, as it
-    # does on position servos, whose first reading does not read gravity.
+    # does on position servos, whose first reading does not read gravity, and predicts the
+    # base's acceleration with gravity as it reads it (with the start alone it stopped after
+    # 5 steps).
     result = walk(
         "g1",
         "mpc",
