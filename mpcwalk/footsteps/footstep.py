@@ -115,7 +115,9 @@ def _checked_position(value) -> np.ndarray:
     pos = np.asarray(value, dtype=float).ravel()
     if pos.shape == (2,):
         pos = np.array([pos[0], pos[1], 0.0])
-    if pos.shape != (3,) or not np.all(np.isfinite(pos)):
+    # three numbers checked as Python floats (np.all(np.isfinite(...)) costs more than its
+    # arithmetic: a publication of the footstep MPC moves every later footstep of the plan)
+    if pos.shape != (3,) or not all(map(math.isfinite, pos.tolist())):
         raise ConfigurationError(
             f"Footstep position must be 2 or 3 finite numbers [m], got {value!r}."
         )
@@ -334,11 +336,14 @@ class FootstepPlan:
 
     def stances(self):
         """All stances: list of ``nb_steps + 1`` dicts side -> Footstep."""
-        feet = {Side.LEFT: self.initial_left, Side.RIGHT: self.initial_right}
-        out = [dict(feet)]
-        for step in self.steps:
-            feet[step.side] = step
-            out.append(dict(feet))
+        left, right = self.initial_left, self.initial_right
+        out = [{Side.LEFT: left, Side.RIGHT: right}]
+        for step in self.steps:  # (a schedule is made with them at every publication)
+            if step.side is Side.LEFT:
+                left = step
+            else:
+                right = step
+            out.append({Side.LEFT: left, Side.RIGHT: right})
         return out
 
     def support_foot(self, k: int) -> Footstep:
