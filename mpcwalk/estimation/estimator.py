@@ -263,7 +263,8 @@ class Estimator:
         angular_velocity = (
             pass_.imu_rotation @ self.attitude.corrected_gyro(gyro) - pass_.imu_angular_velocity
         )
-        acceleration = imu_rotation @ accelerometer + self.gravity_tilt.gravity(self.gravity)
+        acceleration = imu_rotation @ accelerometer
+        acceleration += self.gravity_tilt.gravity(self.gravity)
         forces = self._normal_forces(readings)
         in_contact = np.array(self.contacts.update(forces))
         points = self._contact_points(readings, forces)
