@@ -254,8 +254,10 @@ def test_the_worst_cases_name_stopped_and_fallen_walks_with_their_command():
     assert text.startswith("2 walks fell, were stopped or could not run.")
     assert "stopped by the controller" in text and "fell at 2.5 s (base tilt)" in text
     assert "mpcwalk walk --robot bioloid-like --controller mpc" in text
-    assert "--mass-scale 1.3" in text
+    assert "--mass-scale 1.3" in text and "--actuation" not in text
     assert worst_cases([_row("mpc", "mass", "walked", **base)]) == "Every walk survived.\n"
+    torque = worst_cases([_row("mpc", "mass", "fell", **base, actuation="torque")])
+    assert "--mass-scale 1.3 --actuation torque --seed 3" in torque
 
 
 @pytest.mark.slow

@@ -127,6 +127,23 @@ def test_walk_specifications_are_the_cases_of_a_sweep(tmp_path):
     assert again.nb_run == 0 and again.nb_resumed == 2
 
 
+def test_a_row_gives_back_its_walk_in_either_actuation():
+    """A torque walk's row names its actuation, so the walk it gives back (and the command
+    that reruns it) is the torque walk, with the same id; a row written before the column
+    existed is a position walk."""
+    from mpcwalk.walking.specification import WalkSpec
+    from mpcwalk.walking.sweep_cases import spec_of_row
+
+    spec = WalkSpec.build("g1", controller="mpc", command=(0.1, 0.0, 0.0), nb_steps=8)
+    torque = spec.replace(actuation="torque", ground_roughness=0.0054, seed=128)
+    row = torque.to_columns()
+    assert row["actuation"] == "torque" and spec.to_columns()["actuation"] == "position"
+    assert spec_of_row(row).case_id == torque.case_id != spec_of_row(spec.to_columns()).case_id
+    assert "--actuation torque" in spec_of_row(row).command_line()
+    older = {k: v for k, v in row.items() if k != "actuation"}
+    assert spec_of_row(older).world.actuation == "position"
+
+
 def test_a_table_of_older_columns_is_rewritten_under_the_new_ones(tmp_path):
     """A table written before the engine's ``cpu_time_s`` and ``node`` columns (the same
     configuration) is rewritten with them, its rows kept and the new cells empty; the missing cases then run

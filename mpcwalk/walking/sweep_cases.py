@@ -43,7 +43,8 @@ _ROBOTS: dict[str, Any] = {}
 
 def spec_of_row(row: dict[str, Any]) -> WalkSpec:
     """The walk of a row of a results table written with :func:`spec_columns` (a named
-    controller's; its labels left out)."""
+    controller's; its labels left out; a row written before the ``actuation`` column
+    walks on position servos, as every walk did then)."""
     import json
 
     def number(key: str, default: Any = None) -> Any:
@@ -75,6 +76,7 @@ def spec_of_row(row: dict[str, Any]) -> WalkSpec:
         ground_roughness=number("ground_roughness", 0.0),
         seed=int(number("seed", 0)),
         control_period=period,
+        actuation=str(row.get("actuation") or "position"),
     )
 
 

@@ -31,6 +31,7 @@ CASE_COLUMNS = (
     "ground_roughness",
     "seed",
     "control_period",
+    "actuation",
 )
 
 
@@ -64,6 +65,7 @@ def spec_columns(spec: Any) -> dict[str, Any]:
         "ground_roughness": world.ground_roughness,
         "seed": spec.run.seed,
         "control_period": spec.plan.control_period,
+        "actuation": world.actuation,
     }
     return {**values, **dict(spec.labels)}
 
