@@ -36,6 +36,7 @@ from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.ik.dynamics_program import DEFAULT_DYNAMICS_SOLVER, check_dynamics_solver
 from mpcwalk.ik.dynamics_targets import DynamicsTargets
 from mpcwalk.ik.inverse_dynamics import InverseDynamicsQP
+from mpcwalk.ik.sole_support import ROCKING_RATE
 from mpcwalk.models.com_state import ComState
 
 
@@ -113,14 +114,19 @@ class TorqueController(WalkingController):
             ``controller_options = {dynamics_solver = "NAME"}``. Not with
             ``inverse_dynamics``, which has its own.
         ramp_time: Duration [s] of the load ramp of a sole at touch-down and lift-off, >= 0.
+        rocking_rate: Roll and pitch rate [rad/s] of a loaded sole above which the default
+            inverse dynamics narrows the part of it the CoP may use
+            (:class:`~mpcwalk.ik.sole_support.SoleSupport`; None: its default,
+            :data:`~mpcwalk.ik.sole_support.ROCKING_RATE`, off; 0: never); a walk sets it
+            with ``controller_options = {rocking_rate = R}``. Not with ``inverse_dynamics``.
         state_delay: Age [s] of the estimated state the torques act on
             (:func:`state_delay`; default: one control period, the simulator's exact state).
         options: The other options of :class:`WalkingController`.
 
     Raises:
         ConfigurationError: A negative ramp time, an unknown ``dynamics_solver`` (the
-            message lists the choices), one given with ``inverse_dynamics``, or the options'
-            own errors.
+            message lists the choices), a negative ``rocking_rate``, either given with
+            ``inverse_dynamics``, or the options' own errors.
     """
 
     def __init__(
@@ -133,6 +139,7 @@ class TorqueController(WalkingController):
         dynamics_solver: str | None = None,
         ramp_time: float = 0.04,
         state_delay: float | None = None,
+        rocking_rate: float | None = None,
         **options: Any,
     ) -> None:
         super().__init__(robot, generator, schedule, **options)
@@ -142,12 +149,18 @@ class TorqueController(WalkingController):
         self.state_delay = self.control_period if state_delay is None else state_delay
         if inverse_dynamics is None:
             solver = check_dynamics_solver(dynamics_solver or DEFAULT_DYNAMICS_SOLVER)
-            inverse_dynamics = InverseDynamicsQP(robot, solver=solver, state_delay=self.state_delay)
-        elif dynamics_solver is not None:
+            inverse_dynamics = InverseDynamicsQP(
+                robot,
+                solver=solver,
+                state_delay=self.state_delay,
+                control_period=self.control_period,
+                rocking_rate=ROCKING_RATE if rocking_rate is None else rocking_rate,
+            )
+        elif dynamics_solver is not None or rocking_rate is not None:
             raise ConfigurationError(
-                f"dynamics_solver={dynamics_solver!r} and inverse_dynamics given together: "
-                "the inverse dynamics has its own back-end (InverseDynamicsQP(robot, "
-                "solver=...)); give one of them."
+                "dynamics_solver or rocking_rate given with inverse_dynamics: the inverse "
+                "dynamics has its own (InverseDynamicsQP(robot, solver=..., "
+                "rocking_rate=...)); give one of them."
             )
         self.inverse_dynamics = inverse_dynamics
         self.dynamics_failures = 0

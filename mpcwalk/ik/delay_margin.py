@@ -77,3 +77,21 @@ def delay_limited_frequency(
         ok = phase_margin(middle, rates, delay) >= margin
         low, high = np.where(ok, middle, low), np.where(ok, high, middle)
     return np.where(keeps, float(bound), low)
+
+
+def delay_capped(
+    frequencies: tuple[float, float, float], damping_rate: float, delay: float
+) -> tuple[float, float, float]:
+    """The inverse dynamics' posture, swing-sole and torso frequencies [rad/s] capped for a
+    state ``delay`` [s] old: the posture's to keep :data:`PHASE_MARGIN` with the joints'
+    ``damping_rate`` [1/s] (the least damped joint's), the swing soles' and the torso's to
+    keep :data:`TASK_MARGIN`; a frequency <= 0 is left as it is."""
+    rate = np.array([damping_rate])
+
+    def cap(bound: float, margin: float) -> float:
+        if bound <= 0.0:
+            return bound
+        return float(delay_limited_frequency(bound, rate, delay, margin=margin)[0])
+
+    posture, swing, torso = frequencies
+    return cap(posture, PHASE_MARGIN), cap(swing, TASK_MARGIN), cap(torso, TASK_MARGIN)

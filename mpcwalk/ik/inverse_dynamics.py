@@ -9,7 +9,7 @@ motion ``M(q) a + h(q, v) = S^T tau + sum_i J_i^T f_i``:
                (f_i towards the share w_i / sum w of the weight, along the sole's normal)
     subject to M_b a + h_b = sum_i J_i,b^T f_i                (floating base: 6 rows)
                J_i a + J_dot_i v = -k_c J_i v                  (each sole in contact stays)
-               C f_i <= d_i                                    (contact wrench cone)
+               C_i f_i <= d_i                                  (contact wrench cone)
                -tau_max <= M_j a + h_j - sum_i J_i,j^T f_i <= tau_max   (torque limits)
 
 where the tasks ``k`` are the CoM (the pattern generator's acceleration plus a PD on the
@@ -33,8 +33,8 @@ import numpy as np
 import pinocchio as pin
 
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.ik.contact_wrench import CONE_ROWS, cone_bounds, wrench_cone
-from mpcwalk.ik.delay_margin import PHASE_MARGIN, TASK_MARGIN, delay_limited_frequency
+from mpcwalk.ik.contact_wrench import CONE_ROWS, cone_bounds
+from mpcwalk.ik.delay_margin import delay_capped
 from mpcwalk.ik.dynamics_program import DynamicsProgram
 from mpcwalk.ik.dynamics_targets import (
     DynamicsGains,
@@ -42,6 +42,7 @@ from mpcwalk.ik.dynamics_targets import (
     DynamicsTargets,
     DynamicsWeights,
 )
+from mpcwalk.ik.sole_support import ROCKING_RATE, SoleSupport
 from mpcwalk.qp.program import FixedPatternProgram
 from mpcwalk.qp.solvers.registry import make_solver
 
@@ -73,6 +74,9 @@ class InverseDynamicsQP:
         gains: PD gains of the tasks.
         friction: Friction coefficient of the ground (the pyramid is inscribed in its cone).
         cop_margin: Share in (0, 1] of the half sole the centre of pressure may reach.
+        rocking_rate: Roll and pitch rate [rad/s] of a loaded sole above which its CoP's
+            share shrinks (:class:`~mpcwalk.ik.sole_support.SoleSupport`; 0, the default: never).
+        control_period: Time between two solves [s] (the share's recovery).
         max_normal_force: Largest normal force of a fully loaded sole [N] (default: three
             times the robot's weight).
         torque_limit: Joint torque limits [N m], one per joint or one for all (default:
@@ -100,6 +104,8 @@ class InverseDynamicsQP:
         gains: DynamicsGains = DynamicsGains(),
         friction: float = 0.7,
         cop_margin: float = 0.9,
+        rocking_rate: float = ROCKING_RATE,
+        control_period: float = 0.01,
         max_normal_force: float | None = None,
         torque_limit: float | np.ndarray | None = None,
         torso_frame: str | None = None,
@@ -111,7 +117,8 @@ class InverseDynamicsQP:
         self.weights, self.gains = weights, gains
         self.mass = float(pin.computeTotalMass(model))
         self.weight = self.mass * float(np.linalg.norm(model.gravity.linear))
-        self.cone = wrench_cone(robot.sole_size, friction, cop_margin)
+        self.support = SoleSupport(robot.sole_size, friction, cop_margin, rocking_rate=rocking_rate)
+        self.control_period = control_period
         self.max_normal_force = 3.0 * self.weight if max_normal_force is None else max_normal_force
         if not (np.isfinite(self.max_normal_force) and self.max_normal_force > 0.0):
             raise ConfigurationError(f"max_normal_force must be > 0 [N], got {max_normal_force!r}.")
@@ -125,20 +132,12 @@ class InverseDynamicsQP:
         self.sole_ids = [robot.frame_id(frame) for frame in robot.foot_frames]
         self.torso_frame = torso_frame or robot.torso_frame
         self.torso_id = robot.frame_id(self.torso_frame)
-        omega = np.full(self.nj, float(gains.posture))
-        swing, torso = float(gains.swing_foot), float(gains.torso)
+        posture, swing, torso = float(gains.posture), float(gains.swing_foot), float(gains.torso)
         if state_delay is not None:  # damping rate b / M_jj at q0 of the least damped joint
             inertia = np.diag(pin.crba(model, self.data, robot.q0))[6:]
-            rate = np.array([np.min(np.asarray(model.damping[6:], dtype=float) / inertia)])
-
-            def cap(bound: float, margin: float) -> float:
-                if bound <= 0.0:
-                    return bound
-                return float(delay_limited_frequency(bound, rate, state_delay, margin=margin)[0])
-
-            omega[:] = cap(float(gains.posture), PHASE_MARGIN)
-            swing, torso = cap(swing, TASK_MARGIN), cap(torso, TASK_MARGIN)
-        self.posture_frequencies = omega
+            rate = float(np.min(np.asarray(model.damping[6:], dtype=float) / inertia))
+            posture, swing, torso = delay_capped((posture, swing, torso), rate, state_delay)
+        self.posture_frequencies = np.full(self.nj, posture)
         """Natural frequency [rad/s] of each joint's posture PD, shape (nv - 6,)."""
         self.swing_frequency, self.torso_frequency = swing, torso
         """Natural frequencies [rad/s] of the swing soles' and the torso's PD."""
@@ -154,6 +153,7 @@ class InverseDynamicsQP:
     def reset(self) -> None:
         """Forget the warm start and the held torques."""
         self.solver.reset()
+        self.support.reset()
         self._contacts, self._torques = None, np.zeros(self.nj)
 
     def program(self, contacts: tuple[bool, bool]) -> DynamicsProgram:
@@ -313,7 +313,9 @@ class InverseDynamicsQP:
             A_eq[6 + 6 * k : 12 + 6 * k, :nv] = J
             b_eq[6 + 6 * k : 12 + 6 * k] = -drift - self.gains.contact * (J @ v)
             rows = slice(CONE_ROWS * k, CONE_ROWS * (k + 1))
-            G[rows, columns] = self.cone
+            before = self._contacts is not None and self._contacts[i]
+            rate = float(np.hypot(*(J[3:5] @ v))) if self.support.active else 0.0  # roll, pitch
+            G[rows, columns] = self.support.cone(i, rate, not before, self.control_period)
             limit = targets.contact_weights[i] * self.max_normal_force
             h_ineq[rows] = cone_bounds(limit)
             k += 1

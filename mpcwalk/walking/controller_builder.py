@@ -22,6 +22,7 @@ the rate at which the posture returns to its reference, which a 12 s step does n
 import inspect
 from collections.abc import Sequence
 
+from mpcwalk._checks import checked_number
 from mpcwalk.control.controller import WalkingController
 from mpcwalk.control.stabilizers import StabilizerChain, make_stabilizer
 from mpcwalk.control.stabilizers.base import Stabilizer
@@ -44,8 +45,8 @@ from mpcwalk.walking.specification import ControllerSpec, PlanSpec
 
 #: Options of :class:`~mpcwalk.control.torque_controller.TorqueController` a walk's
 #: ``controller_options`` may give when its actuation is ``"torque"``: the back-end of the
-#: inverse dynamics' QP.
-TORQUE_OPTIONS = ("dynamics_solver",)
+#: inverse dynamics' QP and the rate at which a rocking sole narrows its CoP's support.
+TORQUE_OPTIONS = ("dynamics_solver", "rocking_rate")
 
 #: Tikhonov damping of the whole-body IK [cost^2] under a gait that holds the CoM above the
 #: support foot (see the module docstring): the posture task's weight squared.
@@ -87,6 +88,8 @@ def check_controller(spec: ControllerSpec, actuation: str = "position") -> None:
         )
     if "dynamics_solver" in options:
         check_dynamics_solver(options.pop("dynamics_solver"))
+    if "rocking_rate" in options:
+        checked_number("rocking_rate", options.pop("rocking_rate"), low=0.0, unit="rad/s")
     check_options(WalkingController, options, "controller")
     build_stabilizer(spec.stabilizers)  # the names, checked
 
