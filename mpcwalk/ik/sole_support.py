@@ -78,6 +78,11 @@ class SoleSupport:
         self.active = 0.0 < self.rocking_rate < math.inf
         self.shares = [self.share, self.share]
         """The CoP share of the left and right soles at the last :meth:`cone`."""
+        # each sole's narrowed cone, its CoP rows (|tx| <= m W / 2 fz, |ty| <= m L / 2 fz)
+        # rewritten in place with the same products as wrench_cone's
+        self._narrowed = [self.full.copy(), self.full.copy()]
+        self._width_rows = np.flatnonzero(self.full[:, 3])
+        self._length_rows = np.flatnonzero(self.full[:, 4])
 
     def reset(self) -> None:
         """Both soles back to the full share."""
@@ -103,7 +108,11 @@ class SoleSupport:
         self.shares[sole] = share
         if share == self.share:
             return self.full
-        return wrench_cone(self.sole_size, self.friction, share)
+        length, width = (float(size) for size in self.sole_size)
+        narrowed = self._narrowed[sole]
+        narrowed[self._width_rows, 2] = -(0.5 * share * width)
+        narrowed[self._length_rows, 2] = -(0.5 * share * length)
+        return narrowed
 
 
 __all__ = ["ROCKING_RATE", "SoleSupport"]
