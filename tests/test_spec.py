@@ -436,6 +436,15 @@ def _parsed(spec: WalkSpec) -> WalkSpec:
             actuation="torque",
             controller_options={"dynamics_solver": "quadprog"},  # --dynamics-solver
         ),
+        WalkSpec.build(
+            "romeo",
+            controller="mpc-steps",
+            command=(0.15, 0.0, 0.0),
+            nb_steps=4,
+            actuation="torque",
+            servo_strength=0.8,
+            controller_options={"torque_loop": True},  # --torque-loop
+        ),
     ],
     ids=[
         "named-pushes-world",
@@ -443,6 +452,7 @@ def _parsed(spec: WalkSpec) -> WalkSpec:
         "custom-by-parts",
         "custom-open-loop",
         "torque-dynamics-solver",
+        "torque-loop",
     ],
 )
 def test_the_command_line_of_a_spec_gives_the_spec_back(spec):

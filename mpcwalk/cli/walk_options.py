@@ -61,6 +61,14 @@ def add_walk_options(p: argparse.ArgumentParser) -> None:
         "of mpcwalk solvers that takes equalities and inequalities; default: daqp-direct)",
     )
     c.add_argument(
+        "--torque-loop",
+        dest="torque_loop",
+        action="store_true",
+        default=S,
+        help="divide a torque walk's torques by each motor's gain as its joint torque sensor "
+        "measures it (--actuation torque; off by default)",
+    )
+    c.add_argument(
         "--stabilizer",
         default=S,
         metavar="NAME",
@@ -231,6 +239,9 @@ def spec_from_args(args: argparse.Namespace, *, out: Path) -> Any:
     if "dynamics_solver" in given:
         dynamics = {"dynamics_solver": given["dynamics_solver"]}
         spec = spec.replace(controller_options={**spec.controller.controller_options, **dynamics})
+    if "torque_loop" in given:
+        loop = {"torque_loop": bool(given["torque_loop"])}
+        spec = spec.replace(controller_options={**spec.controller.controller_options, **loop})
     if "hold_position" in given:
         hold = {"hold_position": bool(given["hold_position"])}
         spec = spec.replace(controller_options={**spec.controller.controller_options, **hold})

@@ -17,7 +17,10 @@ reference), then turns it into joint torques with
   touch-down and back to 0 before lift-off, so that the torques do not jump at a switch.
 
 The position servos' joint targets are still computed (and logged); the motors get the
-torques of :attr:`~mpcwalk.control.control_output.ControlOutput.joint_torques`.
+torques of :attr:`~mpcwalk.control.control_output.ControlOutput.joint_torques`: the inverse
+dynamics' own, or, with the joint torque loop (``torque_loop``,
+:class:`~mpcwalk.control.torque_loop.TorqueLoop`), those divided by each motor's gain as the
+joint torque sensors measure it.
 """
 
 import dataclasses
@@ -29,6 +32,7 @@ import pinocchio as pin
 
 from mpcwalk.control.control_output import ControlOutput
 from mpcwalk.control.controller import WalkingController
+from mpcwalk.control.torque_loop import TorqueLoop
 from mpcwalk.estimation.estimated_state import EstimatedState
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.footsteps import Side
@@ -121,6 +125,10 @@ class TorqueController(WalkingController):
             with ``controller_options = {rocking_rate = R}``. Not with ``inverse_dynamics``.
         state_delay: Age [s] of the estimated state the torques act on
             (:func:`state_delay`; default: one control period, the simulator's exact state).
+        torque_loop: Whether to divide the torques by each motor's gain as the joint torque
+            sensors measure it (:class:`~mpcwalk.control.torque_loop.TorqueLoop`); a walk
+            sets it with ``controller_options = {torque_loop = true}``. Without joint torque
+            readings the gains stay 1.
         options: The other options of :class:`WalkingController`.
 
     Raises:
@@ -140,6 +148,7 @@ class TorqueController(WalkingController):
         ramp_time: float = 0.04,
         state_delay: float | None = None,
         rocking_rate: float | None = None,
+        torque_loop: bool = False,
         **options: Any,
     ) -> None:
         super().__init__(robot, generator, schedule, **options)
@@ -163,6 +172,13 @@ class TorqueController(WalkingController):
                 "rocking_rate=...)); give one of them."
             )
         self.inverse_dynamics = inverse_dynamics
+        if not isinstance(torque_loop, bool):
+            raise ConfigurationError(f"torque_loop must be true or false, got {torque_loop!r}.")
+        self.torque_loop = (
+            TorqueLoop(inverse_dynamics.torque_limit.copy(), control_period=self.control_period)
+            if torque_loop
+            else None
+        )
         self.dynamics_failures = 0
         """Ticks whose inverse dynamics failed (the previous torques were held)."""
 
@@ -170,8 +186,11 @@ class TorqueController(WalkingController):
         output = super().reset(q)
         self.inverse_dynamics.reset()
         self.dynamics_failures = 0
+        if self.torque_loop is not None:
+            self.torque_loop.reset()
         q_start = output.q_ref
         torques = self.inverse_dynamics.static_torques(q_start)
+        self._needed = torques  # the joint torques the robot needs (before the loop)
         self.last_output = dataclasses.replace(output, joint_torques=torques)
         return self.last_output
 
@@ -232,12 +251,25 @@ class TorqueController(WalkingController):
         assert previous is not None and previous.joint_torques is not None  # reset() set them
         targets = self.targets(output, previous)
         q, v = np.asarray(state.q), np.asarray(state.v)
+        loop = self.torque_loop
+        if loop is not None:
+            loop.measure(state.sensors.time, state.sensors.joint_torques)
+            # what the motors can give: their limits times their gains (never above rated)
+            self.inverse_dynamics.torque_limit[:] = loop.limits * np.minimum(loop.gains, 1.0)
         if np.all(np.isfinite(q)) and np.all(np.isfinite(v)):
             result = self.inverse_dynamics.solve(q, v, targets)
+            if not result.success and loop is not None and np.any(loop.gains < 1.0):
+                # no solution within what the weak motors give: within their rated limits
+                # (the motors clip the rest) rather than none
+                self.inverse_dynamics.torque_limit[:] = loop.limits
+                result = self.inverse_dynamics.solve(q, v, targets)
             torques = result.torques
         else:  # a faulty estimate: the torques of the last tick hold
-            result, torques = None, previous.joint_torques
+            result, torques = None, self._needed
         if result is None or not result.success:
             self.dynamics_failures += 1
+        self._needed = torques
+        if loop is not None:
+            torques = loop.command(output.time, torques)
         self.last_output = dataclasses.replace(output, joint_torques=torques, dynamics=result)
         return self.last_output

@@ -216,6 +216,12 @@ class Robot:
         v[self._v_index] = qvel[self._dof_index]
         return v
 
+    @property
+    def joint_dofs(self) -> np.ndarray:
+        """MuJoCo degree of freedom of each joint of :attr:`joint_names`: ``qvel[joint_dofs]``
+        (or ``qfrc_actuator[joint_dofs]``) lists them in Pinocchio's joint order (a copy)."""
+        return self._dof_index.copy()
+
     def q_to_ctrl(self, q: np.ndarray) -> np.ndarray:
         """Position-actuator targets (MuJoCo ``ctrl``, actuator order) holding posture ``q``."""
         return self.q_to_qpos(q)[self._ctrl_qpos_index]

@@ -1,7 +1,8 @@
 """What a robot's sensors give each tick, typed below the controller.
 
 :class:`SensorReadings` are the raw readings a robot's drivers deliver: the IMU's angular
-velocity and specific force, the joint encoders, and the force/torque sensors of both feet.
+velocity and specific force, the joint encoders, the force/torque sensors of both feet and,
+on a torque-controlled robot, the joint torque sensors.
 The simulator (:class:`mpcwalk.sim.Simulation`) fills them with the noise, bias, quantisation
 and latency of its sensor model; a real robot's drivers would fill the same. The state the
 controller works on is estimated from them
@@ -57,6 +58,9 @@ class SensorReadings:
         joint_positions: Joint encoders in Pinocchio order (``robot.joint_names``), in [rad].
         left_wrench: Left foot force/torque sensor.
         right_wrench: Right foot force/torque sensor.
+        joint_torques: Joint torque sensors, the torque each actuator applies to its joint,
+            same order as ``joint_positions``, in [N m]; None for a robot without them
+            (position servos).
     """
 
     time: float
@@ -64,6 +68,7 @@ class SensorReadings:
     joint_positions: np.ndarray
     left_wrench: ForceTorqueReading
     right_wrench: ForceTorqueReading
+    joint_torques: np.ndarray | None = None
 
     @property
     def wrenches(self) -> tuple[ForceTorqueReading, ForceTorqueReading]:

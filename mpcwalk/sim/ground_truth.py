@@ -36,10 +36,20 @@ class GroundTruth:
         robot: The robot (its joint order, sole frames and CoM height).
         model: The simulator's MuJoCo model (perhaps perturbed) with the loader's sensors.
         contact_threshold: Vertical force [N] above which a foot is in contact.
+        joint_torques: Whether the robot has joint torque sensors (torque motors): its
+            readings then carry the torque each actuator applies to its joint.
     """
 
-    def __init__(self, robot: Robot, model: mujoco.MjModel, *, contact_threshold: float) -> None:
+    def __init__(
+        self,
+        robot: Robot,
+        model: mujoco.MjModel,
+        *,
+        contact_threshold: float,
+        joint_torques: bool = False,
+    ) -> None:
         self.robot = robot
+        self._joint_dofs = robot.joint_dofs if joint_torques else None
         self.contacts = ContactWrenches(
             model, robot.foot_frames, contact_threshold=contact_threshold
         )
@@ -135,7 +145,8 @@ class GroundTruth:
         sole_rotations: np.ndarray,
     ) -> SensorReadings:
         """What ideal sensors read: MuJoCo's IMU sensors (IMU frame), the joint angles, each
-        foot's contact wrench rotated into its sole frame (torque about the sole origin)."""
+        foot's contact wrench rotated into its sole frame (torque about the sole origin), and
+        the actuators' joint torques where the robot senses them."""
         imu = self.imu_now(data) if self.imu_mean is None else self.imu_mean
         left, right = (
             ForceTorqueReading(
@@ -149,4 +160,9 @@ class GroundTruth:
             joint_positions=q[7:] if not q.flags.writeable else frozen_array(q[7:]),
             left_wrench=left,
             right_wrench=right,
+            joint_torques=(
+                None
+                if self._joint_dofs is None
+                else freeze(data.qfrc_actuator[self._joint_dofs])  # fancy indexing: a copy
+            ),
         )

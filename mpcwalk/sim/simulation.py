@@ -16,6 +16,7 @@ import mujoco
 import numpy as np
 
 from mpcwalk.exceptions import ConfigurationError, SimulationUnstable
+from mpcwalk.ik.inverse_dynamics import torque_limits
 from mpcwalk.robot.ground import Ground
 from mpcwalk.robot.robot import Robot
 from mpcwalk.sim.actuation import actuated_model, check_actuation
@@ -144,6 +145,7 @@ class Simulation:
             period=self.control_period,
             nb_joints=len(robot.joint_names),
             seed=seed,
+            torque_limits=torque_limits(robot) if self.actuation == "torque" else None,
         )
         mass = float(self.model.body_mass.sum())
         weight = mass * float(np.linalg.norm(self.model.opt.gravity))
@@ -151,6 +153,7 @@ class Simulation:
             robot,
             self.model,
             contact_threshold=0.01 * weight if contact_threshold is None else contact_threshold,
+            joint_torques=self.actuation == "torque",
         )
         self.contacts: ContactWrenches = self.ground_truth.contacts
         self.root_body = self.ground_truth.root_body

@@ -46,7 +46,7 @@ from mpcwalk.walking.specification import ControllerSpec, PlanSpec
 #: Options of :class:`~mpcwalk.control.torque_controller.TorqueController` a walk's
 #: ``controller_options`` may give when its actuation is ``"torque"``: the back-end of the
 #: inverse dynamics' QP and the rate at which a rocking sole narrows its CoP's support.
-TORQUE_OPTIONS = ("dynamics_solver", "rocking_rate")
+TORQUE_OPTIONS = ("dynamics_solver", "rocking_rate", "torque_loop")
 
 #: Tikhonov damping of the whole-body IK [cost^2] under a gait that holds the CoM above the
 #: support foot (see the module docstring): the posture task's weight squared.
@@ -90,6 +90,11 @@ def check_controller(spec: ControllerSpec, actuation: str = "position") -> None:
         check_dynamics_solver(options.pop("dynamics_solver"))
     if "rocking_rate" in options:
         checked_number("rocking_rate", options.pop("rocking_rate"), low=0.0, unit="rad/s")
+    if not isinstance(options.pop("torque_loop", False), bool):
+        raise ConfigurationError(
+            f"controller_options torque_loop must be true or false, got "
+            f"{spec.controller_options['torque_loop']!r}."
+        )
     check_options(WalkingController, options, "controller")
     build_stabilizer(spec.stabilizers)  # the names, checked
 

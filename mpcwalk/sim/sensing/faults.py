@@ -3,7 +3,8 @@
 Real sensor buses drop messages and drivers hand out garbage. :class:`SensorFaults` makes a
 simulated walk do the same, through the fields of its specification
 (``run_walk(WalkSpec.build(..., sensor_nan=[(2.0, 2.05)], sensor_dropout=[(3.0, 3.1)]))``):
-during a ``nan`` window every reading (IMU, encoders, foot force/torque sensors) is NaN;
+during a ``nan`` window every reading (IMU, encoders, foot force/torque sensors, joint torque
+sensors) is NaN;
 during a ``dropout`` window no reading arrives. The control loop checks the readings at its
 boundary (:func:`readings_are_finite`): a bad or missing one is a sensor fault, the
 estimator is not updated with it and the controller keeps the last good estimate, for a
@@ -78,6 +79,7 @@ def _nan_readings(readings: SensorReadings) -> SensorReadings:
         joint_positions=nan(readings.joint_positions),
         left_wrench=wrench[0],
         right_wrench=wrench[1],
+        joint_torques=None if readings.joint_torques is None else nan(readings.joint_torques),
     )
 
 
@@ -85,7 +87,7 @@ def readings_are_finite(readings: SensorReadings | None) -> bool:
     """Whether ``readings`` arrived and every value in them is finite."""
     if readings is None:
         return False
-    values = (
+    values: tuple[np.ndarray, ...] = (
         readings.imu.gyro,
         readings.imu.accelerometer,
         readings.joint_positions,
@@ -94,4 +96,6 @@ def readings_are_finite(readings: SensorReadings | None) -> bool:
         readings.right_wrench.force,
         readings.right_wrench.torque,
     )
+    if readings.joint_torques is not None:
+        values = (*values, readings.joint_torques)
     return all_finite(values, (readings.time,))

@@ -7,6 +7,8 @@ A :class:`SensorModel` holds the figures of a robot's sensors (the simulator's
   bias drawn once per walk and a slow random walk of that bias;
 - the joint encoders: quantisation (the resolution) and white noise;
 - the foot force/torque sensors: white noise on the force and on the torque;
+- the joint torque sensors of a torque-controlled robot: white noise, a share of each
+  joint's torque limit;
 - the sensing-to-actuation latency, in control periods: the controller acts on readings that
   many periods old.
 
@@ -87,6 +89,8 @@ class SensorModel:
         encoder_noise_std: White noise of the joint encoders before quantisation [rad].
         force_noise_std: White noise of each force axis of the foot sensors [N].
         torque_noise_std: White noise of each torque axis of the foot sensors [N m].
+        joint_torque_noise: White noise of the joint torque sensors (torque motors only), as a
+            share of each joint's torque limit (0.005: 0.5 % of it).
         latency: Sensing-to-actuation latency [control periods], an integer in
             [0, :data:`MAX_LATENCY`].
 
@@ -111,6 +115,13 @@ class SensorModel:
     # are a few counts noisier (impacts, cable and temperature drift).
     force_noise_std: float = 0.5  # [N]
     torque_noise_std: float = 0.02  # [N m]
+    # Joint torque sensors of a torque-controlled robot: strain gauges on the joint output,
+    # or the deflection of a series-elastic spring, read as the output torque (what the
+    # motor's torque constant and its gear's losses leave of the command). Their noise is a
+    # share of the full scale: 0.5 %, the order of magnitude of the joint torque sensors of
+    # torque-controlled arms and legs (no one datasheet; the full scale is the joint's torque
+    # limit here).
+    joint_torque_noise: float = 0.005  # [share of the torque limit]
     latency: int = 1  # [control periods]
 
     def __post_init__(self) -> None:
@@ -146,6 +157,9 @@ class SensorModel:
             # makes on a 3 cm lever.
             force_noise_std=0.05,  # [N]
             torque_noise_std=0.0015,  # [N m]
+            # A small humanoid driven by torques needs output torque sensors too; those of its
+            # size are coarser than the large robots' (an order of magnitude, no datasheet).
+            joint_torque_noise=0.02,
         )
 
     @classmethod

@@ -8,6 +8,9 @@ simulator's ground truth) into what the robot's drivers would report, following 
   random walk; the same for the accelerometer;
 - encoders: ``resolution * round((truth + noise) / resolution)``;
 - foot force/torque sensors (sole frame): ``truth + noise`` on each axis;
+- joint torque sensors (torque motors only): ``truth + noise``, the noise a share of each
+  joint's torque limit, drawn from a generator of its own (the other readings of a seed are
+  the same with or without them);
 - latency: the readings go through a FIFO of ``latency + 1`` readings; :meth:`read` returns
   the oldest. Before ``latency`` periods have passed it returns the first reading (the robot
   stood still before time 0).
@@ -34,13 +37,23 @@ class SensorSimulator:
         period: Time between two readings (the control period) [s].
         nb_joints: Number of joint encoders.
         seed: Seed of the noise and biases (None: fresh entropy, drawn once here).
+        torque_limits: Torque limit of each joint [N m] (the scale of the joint torque
+            sensors' noise; an infinite limit gets none), shape (nb_joints,); None: no noise
+            on them.
 
     Raises:
-        ConfigurationError: A non-positive period or a negative number of joints.
+        ConfigurationError: A non-positive period, a negative number of joints or torque
+            limits of the wrong shape.
     """
 
     def __init__(
-        self, model: SensorModel, *, period: float, nb_joints: int, seed: int | None = None
+        self,
+        model: SensorModel,
+        *,
+        period: float,
+        nb_joints: int,
+        seed: int | None = None,
+        torque_limits: np.ndarray | None = None,
     ) -> None:
         if not (np.isfinite(period) and period > 0.0):
             raise ConfigurationError(f"period must be > 0 s, got {period!r}.")
@@ -68,6 +81,18 @@ class SensorSimulator:
             ]
         )
         self._bias_std = np.repeat([model.gyro_bias_std, model.accelerometer_bias_std], 3)
+        self._torque_std = np.zeros(self.nb_joints)
+        if torque_limits is not None:
+            limits = np.asarray(torque_limits, dtype=float)
+            if limits.shape != (self.nb_joints,):
+                raise ConfigurationError(
+                    f"torque_limits must give one limit per joint, shape ({self.nb_joints},), "
+                    f"got shape {limits.shape}."
+                )
+            finite = np.isfinite(limits)
+            self._torque_std[finite] = model.joint_torque_noise * np.abs(limits[finite])
+        self._torque_seed = self._seed.spawn(1)[0]
+        self._torque_rng = np.random.default_rng(self._torque_seed)
         self._exact = model.is_exact
         self._bias = np.zeros(6)
         self._fifo: deque[SensorReadings] = deque(maxlen=model.latency + 1)
@@ -90,6 +115,7 @@ class SensorSimulator:
             The reading of ``truth`` (what :meth:`read` gives until the latency has passed).
         """
         self._rng = np.random.default_rng(self._seed)
+        self._torque_rng = np.random.default_rng(self._torque_seed)
         self._bias = self._bias_std * self._rng.standard_normal(6)
         reading = self._corrupt(truth)
         self._fifo.clear()
@@ -121,10 +147,15 @@ class SensorSimulator:
             )
             for wrench, noise in zip(truth.wrenches, wrenches)
         )
+        torques = truth.joint_torques
+        if torques is not None:
+            draw = self._torque_rng.standard_normal(nj)
+            torques = freeze(torques + self._torque_std * draw)
         return SensorReadings(
             time=truth.time,
             imu=ImuReading(gyro=freeze(gyro), accelerometer=freeze(accelerometer)),
             joint_positions=freeze(encoders),
             left_wrench=left,
             right_wrench=right,
+            joint_torques=torques,
         )

@@ -99,7 +99,8 @@ class ControllerSpec:
             :class:`~mpcwalk.control.controller.WalkingController` (``balance``,
             ``heading_hold``, ``dcm_gain``, ``observer_gain``, ``zmp_margin``...); a
             torque-controlled walk also takes ``dynamics_solver``, the back-end of its
-            inverse dynamics (:class:`~mpcwalk.control.torque_controller.TorqueController`).
+            inverse dynamics, ``rocking_rate`` and ``torque_loop``
+            (:class:`~mpcwalk.control.torque_controller.TorqueController`).
 
     Raises:
         ConfigurationError: A value of the wrong type or out of range, an unknown swing

@@ -101,6 +101,8 @@ def command_line(spec: Any, out: str = "walk") -> str:
         words += ["--solver", str(controller.generator_options["solver"])]
     if "dynamics_solver" in controller.controller_options:
         words += ["--dynamics-solver", str(controller.controller_options["dynamics_solver"])]
+    if controller.controller_options.get("torque_loop") is True:
+        words.append("--torque-loop")
     if plan.command is not None:
         vx, vy, vyaw = plan.command
         words += ["--vx", _text(vx), "--vy", _text(vy), "--vyaw", _text(vyaw)]
