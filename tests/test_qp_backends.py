@@ -21,6 +21,7 @@ from mpcwalk.qp.solvers import (
     solver_backend,
     solver_registry,
 )
+from mpcwalk.qp.solvers.base import dense_residuals, dual_residual
 from mpcwalk.qp.solvers.casadi_qp import available_plugins
 from mpcwalk.qp.solvers.qpsolvers_backend import DEFINITE_SOLVERS
 from mpcwalk.qp.solvers.registry import qpsolvers_extras
@@ -362,3 +363,65 @@ def test_daqp_direct_keeps_its_workspace_when_the_cost_changes():
             np.testing.assert_allclose(generator.last_result.x, expected.x, atol=1e-7)
     factorised = len(generator.solver._whitenings._by_matrix)
     assert len(versions) > 2 * factorised > 0  # the costs recur, factorised once each
+
+
+def test_the_dual_residual_over_the_binding_rows_is_the_whole_product():
+    """``dual_residual`` skips the rows whose multiplier is zero: the same norm as the full
+    ``gradient + G^T z`` (to rounding), with a few binding rows, with all and with none."""
+    rng = np.random.default_rng(3)
+    G, gradient = rng.normal(size=(40, 7)), rng.normal(size=7)
+    for binding in ([], [4, 31], list(range(40))):
+        z = np.zeros(40)
+        z[binding] = rng.uniform(0.1, 2.0, size=len(binding))
+        full = np.max(np.abs(gradient + G.T @ z))
+        assert dual_residual(gradient, G, z) == pytest.approx(full, rel=1e-14, abs=1e-15)
+    # and inside the residuals of a solved QP: the KKT conditions of x = argmin
+    P, q = np.eye(2), np.array([-2.0, 0.0])  # min |x - (2, 0)|^2 / 2, x0 <= 1
+    G, h, x, z = (
+        np.array([[1.0, 0.0], [0.0, 1.0]]),
+        np.array([1.0, 5.0]),
+        np.array([1.0, 0.0]),
+        np.array([1.0, 0.0]),
+    )
+    assert dense_residuals(P, q, G, h, x, z) == (0.0, 0.0, 0.0)
+    primal, dual, _ = dense_residuals(P, q, G, h, x, np.array([0.0, 0.0]))
+    assert primal == 0.0 and dual == pytest.approx(1.0)  # the binding row's force missing
+
+
+@pytest.mark.parametrize(
+    "generator, solver",
+    [
+        ("mpc", "daqp-direct"),
+        ("mpc-steps", "quadprog"),
+        ("mpc-steps", "quadprog-screened"),
+        ("mpc-steps", "daqp-direct"),
+        ("static-qp", "daqp-direct"),
+    ],
+)
+def test_residuals_read_after_the_walk_are_those_of_their_tick(generator, solver):
+    """A result computes its residuals when they are first read, from the arrays of its
+    tick: read after forty more ticks (and updates of the QP), they equal those of an
+    identical walk that read them at once; and they are those of the solution."""
+    from mpcwalk.footsteps import FootGeometry, LegLimits, VelocityPlanner
+    from mpcwalk.generators import make_generator
+
+    timing = StepTiming(2.0, 0.5) if generator == "static-qp" else StepTiming()
+    plan = VelocityPlanner(LegLimits(), timing).plan((0.03, 0.0, 0.1), 4)
+    schedule = ContactSchedule(plan, FootGeometry())
+    walks = [make_generator(generator, solver=solver) for _ in range(2)]
+    for walk in walks:
+        walk.reset(schedule)
+    kept, at_once = [], []
+    for tick in range(120):
+        for walk in walks:
+            walk.step()
+        results = [walk.last_result for walk in walks]
+        assert results[0] is not None and results[1] is not None and results[0].success
+        read = results[1]
+        at_once.append((read.primal_residual, read.dual_residual, read.duality_gap))
+        if tick % 7 == 0:
+            kept.append((tick, results[0]))
+    for tick, result in kept:
+        residuals = (result.primal_residual, result.dual_residual, result.duality_gap)
+        assert residuals == at_once[tick]
+        assert residuals[0] < 1e-6 and residuals[1] is not None and residuals[1] < 1e-6

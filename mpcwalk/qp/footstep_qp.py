@@ -232,26 +232,40 @@ class FootstepQP:
             q[foot] = scale * (-wz * S.T @ z_res - wf * M.T @ steps.reference[:, a])
         self.P, self.q = P, q
         self.x0, self.time, self.sample_times = x0.copy(), float(t), times
-        blocks = self._constraints(x0, supports, steps)
+        flat = np.flatnonzero(supports.rows)  # the ZMP rows: the real rows of every point
+        blocks = self._step_rows(steps)
         blocks.append(self._extra_rows(supports))
         self.terminal_rows = 0
         if p.capturability:
             blocks.append(self._terminal_dcm_rows(x0, supports))
             self.terminal_rows = len(blocks[-1][1])
-        # one copy of every row into G (the terminal rows last: without_terminal_rows)
-        self.G = np.concatenate([block for block, _ in blocks])
-        self.h = np.concatenate([bound for _, bound in blocks])
-        self.m = len(self.h)
+        # the ZMP rows made in G, then a copy of the others (the terminal rows last:
+        # without_terminal_rows)
+        self.m = len(flat) + sum(len(bound) for _, bound in blocks)
+        self.G, self.h = np.empty((self.m, self.n)), np.empty(self.m)
+        self._zmp_rows(x0, supports, flat, self.G[: len(flat)], self.h[: len(flat)])
+        row = len(flat)
+        for block, bound in blocks:
+            self.G[row : row + len(bound)] = block
+            self.h[row : row + len(bound)] = bound
+            row += len(bound)
         self.supports = supports
         self._initial_footsteps = np.asarray(steps.initial, dtype=float)
 
     def _constraints(self, x0, supports: SampleSupports, steps: StepVariables):
-        N, nf = self.N, self.nf
-        # the real rows of every point, in order (np.nonzero's), gathered with take
+        """The ``(G, h)`` blocks of the ZMP, reach, box and band rows of a tick (those
+        :meth:`update` writes into its ``G`` and ``h``)."""
         flat = np.flatnonzero(supports.rows)
+        G_zmp, h_zmp = np.empty((len(flat), self.n)), np.empty(len(flat))
+        self._zmp_rows(x0, supports, flat, G_zmp, h_zmp)
+        return [(G_zmp, h_zmp), *self._step_rows(steps)]
+
+    def _zmp_rows(self, x0, supports: SampleSupports, flat, G_zmp, h_zmp) -> None:
+        """Write the ZMP rows of the real rows ``flat`` (flat indices into
+        ``supports.rows``, in order) into ``G_zmp`` and ``h_zmp``."""
+        N, nf = self.N, self.nf
         point = flat // supports.rows.shape[1]
         normals = supports.normals.reshape(-1, 2).take(flat, axis=0)  # (m_z, 2)
-        G_zmp = np.empty((len(point), self.n))
         G_zmp[:, self.n_base :] = 0.0  # a subclass's columns
         Pzu, S = self._pred["Czu"].take(point, axis=0), supports.weights.take(point, axis=0)
         zmp_free = self._pred["Czs"].take(point, axis=0) @ x0
@@ -259,11 +273,15 @@ class FootstepQP:
             np.multiply(normals[:, a : a + 1], Pzu, out=G_zmp[:, a * N : (a + 1) * N])
             foot = G_zmp[:, 2 * N + a * nf : 2 * N + (a + 1) * nf]
             np.multiply(-normals[:, a : a + 1], S, out=foot)
-        h_zmp = (
+        h_zmp[:] = (
             supports.offsets.reshape(-1).take(flat)
             - self.parameters.zmp_margin
             - np.einsum("ra,ra->r", normals, zmp_free)
         )
+
+    def _step_rows(self, steps: StepVariables) -> list[tuple[np.ndarray, np.ndarray]]:
+        """The footsteps' reach, box and band rows."""
+        N, nf = self.N, self.nf
         reach: tuple[np.ndarray, ...] = (steps.active, steps.predecessor, steps.predecessor_yaw)
         reach += (steps.predecessor_xy, steps.lower, steps.upper)
         # the same read-only arrays (the slots keep them while the footsteps stay): the
@@ -273,12 +291,7 @@ class FootstepQP:
             cached = (reach, reach_rows(steps, self.n, N, nf))
             if not any(array.flags.writeable for array in reach):
                 self._reach_rows = cached
-        return [
-            (G_zmp, h_zmp),
-            cached[1],
-            box_rows(steps, self.n, N, nf),
-            band_rows(steps, self.n, N, nf),
-        ]
+        return [cached[1], box_rows(steps, self.n, N, nf), band_rows(steps, self.n, N, nf)]
 
     def _extra_rows(self, supports: SampleSupports) -> tuple[np.ndarray, np.ndarray]:
         """Rows a subclass adds after the ZMP, reach and band rows (and before the terminal

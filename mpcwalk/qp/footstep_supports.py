@@ -17,6 +17,7 @@ same centre (paper M's polygonal reference, eq. 6-8, on the variable footsteps).
 <mpcwalk.qp.footstep_qp.FootstepQP.update>` takes.
 """
 
+import functools
 from collections.abc import Iterable
 
 import numpy as np
@@ -32,6 +33,14 @@ from mpcwalk.qp.footstep_variables import SampleSupports, StepVariables
 
 _BOUNDARY_EPS = 1e-9  # [s] a sample on a phase boundary belongs to the new phase
 _REACH_TOLERANCE = 1e-6  # [m], [rad] nominal steps may touch the rectangle's edges
+
+
+@functools.cache
+def _identity(n: int) -> np.ndarray:
+    """The identity of size ``n``, read-only."""
+    eye = np.eye(n)
+    eye.setflags(write=False)
+    return eye
 
 
 class FootstepSlots:
@@ -302,11 +311,13 @@ class FootstepSlots:
         """
         count = len(steps_k)
         active, pred, pred_xy, pred_yaw, lower, upper, initial = self._reach(steps_k, variable, nf)
-        M, r = np.eye(nf), np.zeros((nf, 2))
+        r = np.zeros((nf, 2))
         slots, support = 2 + steps_k, self.support[steps_k]
-        if absolute:
+        if absolute:  # M = I, one read-only array for every tick
+            M = _identity(nf)
             r[:count] = self.nominal[slots] + offset
         else:
+            M = np.eye(nf)
             r[:count] = self.nominal[slots] - self.nominal[support]
             chained = variable[support] >= 0
             M[np.flatnonzero(chained), variable[support[chained]]] = -1.0

@@ -20,6 +20,7 @@ A dense QP with equality rows that offers them (``dense_rows()``: the inverse dy
 solved in one call, the equalities held in the working set for good (DAQP's sense 5).
 """
 
+import functools
 import time
 
 import daqp
@@ -165,7 +166,8 @@ class DaqpSolver(QPSolver):
         def residuals(v, z):
             # in the whitened variables: M v = G x, R^T (v + f + M^T z) = P x + q + G^T z
             primal = float(max(0.0, np.max(M @ v - h))) if len(h) else 0.0
-            dual = float(np.max(np.abs(W.factor.T @ (v + f + M.T @ z))))
+            binding = np.flatnonzero(z)  # M^T z over the rows with a multiplier
+            dual = float(np.max(np.abs(W.factor.T @ (v + f + z[binding] @ M[binding]))))
             return primal, dual, float(abs(v @ v + f @ v + h @ z))
 
         return self._solved(ready, start, residuals, W.inverse)
@@ -185,7 +187,8 @@ class DaqpSolver(QPSolver):
         z = np.array(info["lam"], dtype=float)
         x = v if back is None else back @ v
         self._previous = x
-        return self._found(x, z, elapsed, info, residuals(v, z))
+        # computed when read (the rows and vectors they use are not changed in place)
+        return self._found(x, z, elapsed, info, functools.partial(residuals, v, z))
 
     def _found(self, x, z, elapsed: float, info, residuals) -> QPResult:
         """The result of a solve DAQP found, with its (primal, dual, gap) residuals."""

@@ -3,11 +3,13 @@
 ``qpsolvers.solve_problem(problem, "quadprog")`` hands ``quadprog.solve_qp`` the arrays
 ``(P, -q, -G^T, -h, 0)`` of a dense problem ``min 1/2 x'Px + q'x, G x <= h``, then wraps
 the answer and computes its residuals. :func:`solve_dense_quadprog` makes the same call on
-the same arrays (so the same solution, bit for bit) and the same residuals, without
-building the problem and solution objects of qpsolvers around them, which cost a third of
-the solve on the footstep-adaptive MPC's QP (74 columns, 268 rows).
+the same arrays (so the same solution, bit for bit) and the same residuals (to rounding:
+the dual one sums over the binding rows only), without building the problem and solution
+objects of qpsolvers around them, which cost a third of the solve on the footstep-adaptive
+MPC's QP (74 columns, 268 rows).
 """
 
+import functools
 import time
 
 import numpy as np
@@ -45,9 +47,8 @@ def solve_dense_quadprog(
             return failure(name, "error: matrix P is not positive definite", elapsed)
         return failure(name, "not found", elapsed)
     elapsed = time.perf_counter() - start
-    return found(
-        name, x, z, elapsed, int(np.ravel(iterations)[0]), dense_residuals(P, q, G, h, x, z)
-    )
+    residuals = functools.partial(dense_residuals, P, q, G, h, x, z)  # computed when read
+    return found(name, x, z, elapsed, int(np.ravel(iterations)[0]), residuals)
 
 
 __all__ = ["solve_dense_quadprog"]

@@ -20,6 +20,7 @@ The result's multipliers cover every row (zero on the rows never solved with), a
 residuals are the whole QP's.
 """
 
+import functools
 import time
 
 import numpy as np
@@ -135,7 +136,7 @@ class ScreenedSolver(QPSolver):
         if len(rows):
             y[rows] = lagrangian
         self._previous = x
-        primal, dual, gap = kkt_residuals(P, q, G, np.full(m, -np.inf), h, x, y)
+        lower = np.full(m, -np.inf)
         return QPResult(
             x=x,
             y=y,
@@ -143,10 +144,8 @@ class ScreenedSolver(QPSolver):
             status="found",
             solve_time=elapsed,
             iterations=iterations,
-            primal_residual=primal,
-            dual_residual=dual,
-            duality_gap=gap,
             solver=self.name,
+            residuals=functools.partial(kkt_residuals, P, q, G, lower, h, x, y),  # when read
         )
 
 
