@@ -425,3 +425,31 @@ def test_residuals_read_after_the_walk_are_those_of_their_tick(generator, solver
         residuals = (result.primal_residual, result.dual_residual, result.duality_gap)
         assert residuals == at_once[tick]
         assert residuals[0] < 1e-6 and residuals[1] is not None and residuals[1] < 1e-6
+
+
+def test_a_result_replaced_keeps_its_residuals():
+    """``dataclasses.replace`` of a result (a new status) keeps its residuals, given as
+    numbers or computed when read; the function runs once."""
+    import dataclasses
+
+    calls = []
+
+    def residuals():
+        calls.append(1)
+        return 1e-9, 2e-9, 3e-9
+
+    lazy = QPResult(
+        np.zeros(2), np.zeros(1), True, "found", 0.1, 4, solver="s", residuals=residuals
+    )
+    changed = dataclasses.replace(lazy, status="found (retried)")
+    assert changed.status == "found (retried)" and changed.solver == "s"
+    assert (changed.primal_residual, changed.dual_residual, changed.duality_gap) == (
+        1e-9,
+        2e-9,
+        3e-9,
+    )
+    assert lazy.duality_gap == 3e-9 and changed.primal_residual == 1e-9
+    assert len(calls) == 2  # once per result, when first read
+    given = QPResult(None, None, False, "not found", 0.0, None, np.inf, None, None, "q")
+    again = dataclasses.replace(given, status="not found (twice)")
+    assert again.primal_residual == np.inf and again.dual_residual is None

@@ -239,8 +239,7 @@ class FootstepQP:
         if p.capturability:
             blocks.append(self._terminal_dcm_rows(x0, supports))
             self.terminal_rows = len(blocks[-1][1])
-        # the ZMP rows made in G, then a copy of the others (the terminal rows last:
-        # without_terminal_rows)
+        # the ZMP rows made in G, then the others (the terminal ones last: without_terminal_rows)
         self.m = len(flat) + sum(len(bound) for _, bound in blocks)
         self.G, self.h = np.empty((self.m, self.n)), np.empty(self.m)
         self._zmp_rows(x0, supports, flat, self.G[: len(flat)], self.h[: len(flat)])
@@ -253,8 +252,7 @@ class FootstepQP:
         self._initial_footsteps = np.asarray(steps.initial, dtype=float)
 
     def _constraints(self, x0, supports: SampleSupports, steps: StepVariables):
-        """The ``(G, h)`` blocks of the ZMP, reach, box and band rows of a tick (those
-        :meth:`update` writes into its ``G`` and ``h``)."""
+        """The ``(G, h)`` blocks of the ZMP, reach, box and band rows (:meth:`update`'s)."""
         flat = np.flatnonzero(supports.rows)
         G_zmp, h_zmp = np.empty((len(flat), self.n)), np.empty(len(flat))
         self._zmp_rows(x0, supports, flat, G_zmp, h_zmp)

@@ -17,7 +17,6 @@ same centre (paper M's polygonal reference, eq. 6-8, on the variable footsteps).
 <mpcwalk.qp.footstep_qp.FootstepQP.update>` takes.
 """
 
-import functools
 from collections.abc import Iterable
 
 import numpy as np
@@ -29,18 +28,10 @@ from mpcwalk.footsteps.reachability import ReachabilityRectangle
 from mpcwalk.gait.contact_schedule import MAX_POLYGON_EDGES, ContactSchedule
 from mpcwalk.gait.swing_retarget import SwingLimits
 from mpcwalk.qp.footstep_parameters import blended_rectangles
-from mpcwalk.qp.footstep_variables import SampleSupports, StepVariables
+from mpcwalk.qp.footstep_variables import SampleSupports, StepVariables, identity_matrix
 
 _BOUNDARY_EPS = 1e-9  # [s] a sample on a phase boundary belongs to the new phase
 _REACH_TOLERANCE = 1e-6  # [m], [rad] nominal steps may touch the rectangle's edges
-
-
-@functools.cache
-def _identity(n: int) -> np.ndarray:
-    """The identity of size ``n``, read-only."""
-    eye = np.eye(n)
-    eye.setflags(write=False)
-    return eye
 
 
 class FootstepSlots:
@@ -314,7 +305,7 @@ class FootstepSlots:
         r = np.zeros((nf, 2))
         slots, support = 2 + steps_k, self.support[steps_k]
         if absolute:  # M = I, one read-only array for every tick
-            M = _identity(nf)
+            M = identity_matrix(nf)
             r[:count] = self.nominal[slots] + offset
         else:
             M = np.eye(nf)

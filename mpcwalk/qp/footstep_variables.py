@@ -3,6 +3,7 @@ points (:class:`SampleSupports`) and the footstep variables (:class:`StepVariabl
 :class:`~mpcwalk.qp.footstep_supports.FootstepSlots` makes them and
 :meth:`FootstepQP.update <mpcwalk.qp.footstep_qp.FootstepQP.update>` takes them."""
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -92,4 +93,13 @@ class StepVariables:
     band_upper: np.ndarray | None = None
 
 
-__all__ = ["SampleSupports", "StepVariables"]
+@functools.cache
+def identity_matrix(n: int) -> np.ndarray:
+    """The identity of size ``n``, read-only (the reference matrix of absolute footstep
+    references, one array for every tick)."""
+    eye = np.eye(n)
+    eye.setflags(write=False)
+    return eye
+
+
+__all__ = ["SampleSupports", "StepVariables", "identity_matrix"]

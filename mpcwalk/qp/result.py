@@ -60,6 +60,7 @@ class QPResult:
         solver: str = "",
         *,
         residuals: "Callable[[], Residuals] | None" = None,
+        _residuals: "Residuals | Callable[[], Residuals] | None" = None,  # (replace's)
     ) -> None:
         for name, value in (
             ("x", x),
@@ -71,6 +72,8 @@ class QPResult:
             ("solver", solver),
         ):
             object.__setattr__(self, name, value)
+        if residuals is None:
+            residuals = _residuals
         given = (primal_residual, dual_residual, duality_gap)
         object.__setattr__(self, "_residuals", given if residuals is None else residuals)
 
