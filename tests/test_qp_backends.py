@@ -398,10 +398,11 @@ def test_the_dual_residual_over_the_binding_rows_is_the_whole_product():
         ("static-qp", "daqp-direct"),
     ],
 )
-def test_residuals_read_after_the_walk_are_those_of_their_tick(generator, solver):
-    """A result computes its residuals when they are first read, from the arrays of its
-    tick: read after forty more ticks (and updates of the QP), they equal those of an
-    identical walk that read them at once; and they are those of the solution."""
+def test_residuals_and_horizons_read_after_the_walk_are_those_of_their_tick(generator, solver):
+    """A result computes its residuals, and an output its horizon, when they are first
+    read, from the arrays of their tick: read after the walk (and every later update of
+    the QP), they equal those of an identical walk that read them at once; the residuals
+    are those of a solution."""
     from mpcwalk.footsteps import FootGeometry, LegLimits, VelocityPlanner
     from mpcwalk.generators import make_generator
 
@@ -413,18 +414,22 @@ def test_residuals_read_after_the_walk_are_those_of_their_tick(generator, solver
         walk.reset(schedule)
     kept, at_once = [], []
     for tick in range(120):
-        for walk in walks:
-            walk.step()
+        outputs = [walk.step() for walk in walks]
         results = [walk.last_result for walk in walks]
         assert results[0] is not None and results[1] is not None and results[0].success
-        read = results[1]
-        at_once.append((read.primal_residual, read.dual_residual, read.duality_gap))
+        read, horizon = results[1], outputs[1].horizon
+        assert horizon is not None
+        at_once.append(
+            (read.primal_residual, read.dual_residual, read.duality_gap, horizon.com, horizon.zmp)
+        )
         if tick % 7 == 0:
-            kept.append((tick, results[0]))
-    for tick, result in kept:
+            kept.append((tick, results[0], outputs[0].horizon))
+    for tick, result, horizon in kept:
         residuals = (result.primal_residual, result.dual_residual, result.duality_gap)
-        assert residuals == at_once[tick]
+        assert residuals == at_once[tick][:3]
         assert residuals[0] < 1e-6 and residuals[1] is not None and residuals[1] < 1e-6
+        np.testing.assert_array_equal(horizon.com, at_once[tick][3])
+        np.testing.assert_array_equal(horizon.zmp, at_once[tick][4])
 
 
 def test_a_result_replaced_keeps_its_residuals():

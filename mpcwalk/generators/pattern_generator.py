@@ -11,7 +11,8 @@ clock: :meth:`PatternGenerator.step` and :meth:`PatternGenerator.coast` advance 
 
 import time
 from abc import ABC, abstractmethod
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import Any, ClassVar, TypeVar
 
 import numpy as np
@@ -27,11 +28,12 @@ from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.com_state import ComState
 from mpcwalk.models.flywheel import FlywheelState
 from mpcwalk.models.lipm import LIPM
+from mpcwalk.qp.deferred import resolved
 
 G = TypeVar("G", bound="PatternGenerator")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Horizon:
     """Predicted trajectory over a generator's preview window.
 
@@ -39,11 +41,38 @@ class Horizon:
         times: Sample times, shape (n,), in [s].
         com: CoM positions, shape (n, 2), in [m].
         zmp: ZMP positions, shape (n, 2), in [m].
+
+    ``com`` and ``zmp`` are given as arrays, or as ``states``: a function of no argument
+    that returns them, called the first time one is read (the QP generators' horizon, made
+    from their plan's :class:`~mpcwalk.qp.program.Prediction` only when asked for).
     """
 
     times: np.ndarray
-    com: np.ndarray
-    zmp: np.ndarray
+    _states: "tuple[np.ndarray, np.ndarray] | Callable[[], tuple[np.ndarray, np.ndarray]]" = field(
+        repr=False, compare=False
+    )
+
+    def __init__(
+        self,
+        times: np.ndarray,
+        com: np.ndarray | None = None,
+        zmp: np.ndarray | None = None,
+        *,
+        states: "Callable[[], tuple[np.ndarray, np.ndarray]] | None" = None,
+        _states: Any = None,  # (replace's)
+    ) -> None:
+        held = states if states is not None else _states
+        self.__dict__.update(times=times, _states=(com, zmp) if held is None else held)
+
+    @property
+    def com(self) -> np.ndarray:
+        """CoM positions, shape (n, 2), in [m]."""
+        return resolved(self, "_states")[0]
+
+    @property
+    def zmp(self) -> np.ndarray:
+        """ZMP positions, shape (n, 2), in [m]."""
+        return resolved(self, "_states")[1]
 
 
 @dataclass(frozen=True)

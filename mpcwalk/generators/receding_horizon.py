@@ -197,8 +197,8 @@ class RecedingHorizonGenerator(PatternGenerator):
         """Predicted trajectory of the current plan, None before the first solve."""
         if self._plan is None:
             return None
-        prediction = self._plan.prediction
-        return Horizon(prediction.times, prediction.com, prediction.zmp)
+        prediction = self._plan.prediction  # its states are made when the horizon's are read
+        return Horizon(prediction.times, states=lambda: (prediction.com, prediction.zmp))
 
     def _advance(self, x0: np.ndarray, jerks: np.ndarray, t: float, dt: float) -> np.ndarray:
         """State one control period after a successful solve at ``t`` [s] from ``x0``, with

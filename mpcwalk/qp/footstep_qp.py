@@ -34,7 +34,7 @@ from mpcwalk.qp.footstep_bounds import band_rows, box_rows, reach_rows
 from mpcwalk.qp.footstep_parameters import FootstepMpcParameters
 from mpcwalk.qp.footstep_prediction import horizon_predictions
 from mpcwalk.qp.footstep_supports import SampleSupports, StepVariables
-from mpcwalk.qp.program import Prediction
+from mpcwalk.qp.program import Prediction, predicted_states
 
 
 class FootstepQP:
@@ -382,14 +382,10 @@ class FootstepQP:
     def predict(self, jerks: np.ndarray) -> Prediction:
         """Exact states at the samples of the last :meth:`update` for jerks (N, 2)."""
         self.require_update()
-        pred, x0 = self._pred, self.x0
-        return Prediction(
-            times=self.sample_times.copy(),
-            com=pred["Pps"] @ x0 + pred["Ppu"] @ jerks,
-            com_velocity=pred["Pvs"] @ x0 + pred["Pvu"] @ jerks,
-            com_acceleration=pred["Pas"] @ x0 + pred["Pau"] @ jerks,
-            zmp=pred["Pzs"] @ x0 + pred["Pzu"] @ jerks,
-        )
+        pred = self._pred  # this tick's maps, and a copy of the jerks: the states made when read
+        maps = tuple(pred[k] for k in ("Pps", "Ppu", "Pvs", "Pvu", "Pas", "Pau", "Pzs", "Pzu"))
+        states = predicted_states(maps, self.x0, np.array(jerks, dtype=float))
+        return Prediction(times=self.sample_times.copy(), states=states)
 
     def shift_primal(self, x: np.ndarray, samples: float) -> np.ndarray:
         """Warm start: jerks shifted by ``samples`` sampling periods (linear interpolation,

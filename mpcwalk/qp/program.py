@@ -14,16 +14,21 @@ matrices keep one sparsity pattern from tick to tick (``fixed_pattern`` True: th
 back-ends (OSQP, CasADi, KKT) update in place.
 """
 
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 import numpy as np
 import qpsolvers
 
+from mpcwalk.qp.deferred import resolved
 from mpcwalk.qp.fixed_pattern import FixedPattern
 
+States = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+"""``(com, com_velocity, com_acceleration, zmp)`` over a horizon."""
 
-@dataclass(frozen=True)
+
+@dataclass(frozen=True, init=False)
 class Prediction:
     """States predicted over the horizon from an initial state and jerks.
 
@@ -33,13 +38,68 @@ class Prediction:
         com_velocity: Shape (N, 2), in [m]/[s].
         com_acceleration: Shape (N, 2), in [m]/[s]^2.
         zmp: Shape (N, 2), in [m].
+
+    The four states are given as arrays, or as ``states``: a function of no argument that
+    returns them, called the first time one is read (:mod:`mpcwalk.qp.deferred`). A QP
+    generator keeps the prediction of every tick's plan and reads its times; the states
+    are read by the plots, the tests and the flywheel's horizon.
     """
 
     times: np.ndarray
-    com: np.ndarray
-    com_velocity: np.ndarray
-    com_acceleration: np.ndarray
-    zmp: np.ndarray
+    _states: "States | Callable[[], States]" = field(repr=False, compare=False)
+
+    def __init__(
+        self,
+        times: np.ndarray,
+        com: np.ndarray | None = None,
+        com_velocity: np.ndarray | None = None,
+        com_acceleration: np.ndarray | None = None,
+        zmp: np.ndarray | None = None,
+        *,
+        states: "Callable[[], States] | None" = None,
+        _states: "States | Callable[[], States] | None" = None,  # (replace's)
+    ) -> None:
+        held = states if states is not None else _states
+        given = (com, com_velocity, com_acceleration, zmp)
+        self.__dict__.update(times=times, _states=given if held is None else held)
+
+    @property
+    def com(self) -> np.ndarray:
+        """CoM positions, shape (N, 2), in [m]."""
+        return resolved(self, "_states")[0]
+
+    @property
+    def com_velocity(self) -> np.ndarray:
+        """Shape (N, 2), in [m]/[s]."""
+        return resolved(self, "_states")[1]
+
+    @property
+    def com_acceleration(self) -> np.ndarray:
+        """Shape (N, 2), in [m]/[s]^2."""
+        return resolved(self, "_states")[2]
+
+    @property
+    def zmp(self) -> np.ndarray:
+        """Shape (N, 2), in [m]."""
+        return resolved(self, "_states")[3]
+
+
+def predicted_states(maps: tuple[np.ndarray, ...], x0: Any, jerks: np.ndarray):
+    """The function that makes the states of a :class:`Prediction` (when they are read)
+    from the prediction maps ``(Pps, Ppu, Pvs, Pvu, Pas, Pau, Pzs, Pzu)`` of a tick, its
+    state ``x0`` (3, 2) and the jerks (N, 2), each ``P?s x0 + P?u jerks``; the maps, ``x0``
+    and ``jerks`` must not change after (the QPs pass this tick's maps and copies)."""
+
+    def states() -> States:
+        Pps, Ppu, Pvs, Pvu, Pas, Pau, Pzs, Pzu = maps
+        return (
+            Pps @ x0 + Ppu @ jerks,
+            Pvs @ x0 + Pvu @ jerks,
+            Pas @ x0 + Pau @ jerks,
+            Pzs @ x0 + Pzu @ jerks,
+        )
+
+    return states
 
 
 class QuadraticProgram(Protocol):

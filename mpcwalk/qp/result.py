@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from mpcwalk.qp.deferred import resolved
+
 Residuals = tuple[float, float | None, float | None]
 """``(primal_residual, dual_residual, duality_gap)`` of a solution."""
 
@@ -62,27 +64,21 @@ class QPResult:
         residuals: "Callable[[], Residuals] | None" = None,
         _residuals: "Residuals | Callable[[], Residuals] | None" = None,  # (replace's)
     ) -> None:
-        for name, value in (
-            ("x", x),
-            ("y", y),
-            ("success", success),
-            ("status", status),
-            ("solve_time", solve_time),
-            ("iterations", iterations),
-            ("solver", solver),
-        ):
-            object.__setattr__(self, name, value)
-        if residuals is None:
-            residuals = _residuals
+        held = residuals if residuals is not None else _residuals
         given = (primal_residual, dual_residual, duality_gap)
-        object.__setattr__(self, "_residuals", given if residuals is None else residuals)
+        self.__dict__.update(  # (frozen: the fields are set once, here)
+            x=x,
+            y=y,
+            success=success,
+            status=status,
+            solve_time=solve_time,
+            iterations=iterations,
+            solver=solver,
+            _residuals=given if held is None else held,
+        )
 
     def _kkt(self) -> Residuals:
-        residuals = self._residuals
-        if callable(residuals):
-            residuals = residuals()
-            object.__setattr__(self, "_residuals", residuals)
-        return residuals
+        return resolved(self, "_residuals")
 
     @property
     def primal_residual(self) -> float:

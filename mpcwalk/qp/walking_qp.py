@@ -22,7 +22,7 @@ from mpcwalk.qp.affine_bounds import affine_bounds
 from mpcwalk.qp.fixed_pattern import FixedPattern
 from mpcwalk.qp.layouts import CondensedLayout
 from mpcwalk.qp.parameters import MpcParameters
-from mpcwalk.qp.program import Prediction
+from mpcwalk.qp.program import Prediction, predicted_states
 from mpcwalk.qp.schedule_tables import ScheduleTables, SupportSequence
 from mpcwalk.qp.sparse_layout import SparseLayout
 
@@ -377,15 +377,11 @@ class WalkingQP:
     def predict(self, jerks: np.ndarray, x0: np.ndarray | None = None) -> Prediction:
         """Exact states at the samples for jerks (N, 2) from ``x0`` (default:
         the state of the last :meth:`update`)."""
-        x0 = self.x0 if x0 is None else np.asarray(x0, dtype=float)
-        L = self.layout
-        return Prediction(
-            times=self.sample_times.copy(),
-            com=L.Pps @ x0 + L.Ppu @ jerks,
-            com_velocity=L.Pvs @ x0 + L.Pvu @ jerks,
-            com_acceleration=L.Pas @ x0 + L.Pau @ jerks,
-            zmp=L.Pzs @ x0 + L.Pzu @ jerks,
-        )
+        x0 = self.x0 if x0 is None else np.array(x0, dtype=float)
+        L = self.layout  # this tick's maps, and a copy of the jerks: the states made when read
+        maps = (L.Pps, L.Ppu, L.Pvs, L.Pvu, L.Pas, L.Pau, L.Pzs, L.Pzu)
+        states = predicted_states(maps, x0, np.array(jerks, dtype=float))
+        return Prediction(times=self.sample_times.copy(), states=states)
 
     def shift_primal(self, x: np.ndarray, samples: float) -> np.ndarray:
         """Primal vector shifted by ``samples`` sampling periods (warm start)."""
