@@ -392,6 +392,8 @@ def test_the_dual_residual_over_the_binding_rows_is_the_whole_product():
     "generator, solver",
     [
         ("mpc", "daqp-direct"),
+        ("mpc", "daqp"),
+        ("mpc", "casadi"),
         ("mpc-steps", "quadprog"),
         ("mpc-steps", "quadprog-screened"),
         ("mpc-steps", "daqp-direct"),
