@@ -128,9 +128,9 @@ class CasadiSolver(QPSolver):
         x = np.asarray(out["x"]).ravel() if success else None
         y = np.asarray(out["lam_a"]).ravel() if success else None
         self._previous = x
-        residuals = None  # computed when read, from this tick's arrays
+        primal, dual, gap = np.inf, None, None
         if x is not None and y is not None:
-            residuals = functools.partial(kkt_residuals, qp.P, qp.q, qp.A, qp.l, qp.u, x, y)
+            primal, dual, gap = kkt_residuals(qp.P, qp.q, qp.A, qp.l, qp.u, x, y)
         iterations = stats.get("iter_count", stats.get("iter"))
         return QPResult(
             x=x,
@@ -139,6 +139,8 @@ class CasadiSolver(QPSolver):
             status=str(stats.get("return_status", "")),
             solve_time=elapsed,
             iterations=None if iterations is None else int(iterations),
+            primal_residual=primal,
+            dual_residual=dual,
+            duality_gap=gap,
             solver=self.name,
-            residuals=residuals,
         )

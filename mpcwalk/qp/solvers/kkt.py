@@ -1,6 +1,5 @@
 """Exact solve of an equality-constrained QP through its KKT system."""
 
-import functools
 import time
 from typing import Any
 
@@ -54,6 +53,6 @@ class KktSolver(QPSolver):
         else:
             x, y = scipy.linalg.cho_solve(self._factor, -program.q), np.zeros(0)
         elapsed = time.perf_counter() - start
-        arrays = (program.P, program.q, program.A, program.l, program.u)  # this tick's
-        residuals = functools.partial(kkt_residuals, *arrays, x, y)  # computed when read
-        return QPResult(x, y, True, "solved", elapsed, 1, solver=self.name, residuals=residuals)
+        P, A = program.P, program.A
+        primal, dual, gap = kkt_residuals(P, program.q, A, program.l, program.u, x, y)
+        return QPResult(x, y, True, "solved", elapsed, 1, primal, dual, gap, self.name)

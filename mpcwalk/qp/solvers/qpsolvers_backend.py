@@ -104,12 +104,10 @@ class QpsolversSolver(QPSolver):
             status="found" if found else "not found",
             solve_time=elapsed,
             iterations=_iterations(solution.extras),
+            primal_residual=solution.primal_residual(),
+            dual_residual=solution.dual_residual() if y is not None else None,
+            duality_gap=solution.duality_gap() if y is not None else None,
             solver=self.name,
-            residuals=lambda: (  # computed when read, from this tick's problem
-                solution.primal_residual(),
-                solution.dual_residual() if y is not None else None,
-                solution.duality_gap() if y is not None else None,
-            ),
         )
 
 
