@@ -28,7 +28,7 @@ from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.com_state import ComState
 from mpcwalk.models.flywheel import FlywheelState
 from mpcwalk.models.lipm import LIPM
-from mpcwalk.qp.deferred import resolved
+from mpcwalk.qp.deferred import deferred_item
 
 G = TypeVar("G", bound="PatternGenerator")
 
@@ -64,15 +64,8 @@ class Horizon:
         held = states if states is not None else _states
         self.__dict__.update(times=times, _states=(com, zmp) if held is None else held)
 
-    @property
-    def com(self) -> np.ndarray:
-        """CoM positions, shape (n, 2), in [m]."""
-        return resolved(self, "_states")[0]
-
-    @property
-    def zmp(self) -> np.ndarray:
-        """ZMP positions, shape (n, 2), in [m]."""
-        return resolved(self, "_states")[1]
+    com = deferred_item("_states", 0, "CoM positions, shape (n, 2), in [m].")
+    zmp = deferred_item("_states", 1, "ZMP positions, shape (n, 2), in [m].")
 
 
 @dataclass(frozen=True)

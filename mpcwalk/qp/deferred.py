@@ -21,4 +21,9 @@ def resolved(owner: object, name: str) -> Any:
     return value
 
 
-__all__ = ["resolved"]
+def deferred_item(name: str, index: int, doc: str) -> Any:
+    """A read-only property: item ``index`` of the field ``name`` (:func:`resolved`)."""
+    return property(lambda owner: resolved(owner, name)[index], doc=doc)
+
+
+__all__ = ["deferred_item", "resolved"]

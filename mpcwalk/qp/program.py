@@ -21,7 +21,7 @@ from typing import Any, Protocol
 import numpy as np
 import qpsolvers
 
-from mpcwalk.qp.deferred import resolved
+from mpcwalk.qp.deferred import deferred_item
 from mpcwalk.qp.fixed_pattern import FixedPattern
 
 States = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
@@ -63,25 +63,10 @@ class Prediction:
         given = (com, com_velocity, com_acceleration, zmp)
         self.__dict__.update(times=times, _states=given if held is None else held)
 
-    @property
-    def com(self) -> np.ndarray:
-        """CoM positions, shape (N, 2), in [m]."""
-        return resolved(self, "_states")[0]
-
-    @property
-    def com_velocity(self) -> np.ndarray:
-        """Shape (N, 2), in [m]/[s]."""
-        return resolved(self, "_states")[1]
-
-    @property
-    def com_acceleration(self) -> np.ndarray:
-        """Shape (N, 2), in [m]/[s]^2."""
-        return resolved(self, "_states")[2]
-
-    @property
-    def zmp(self) -> np.ndarray:
-        """Shape (N, 2), in [m]."""
-        return resolved(self, "_states")[3]
+    com = deferred_item("_states", 0, "CoM positions, shape (N, 2), in [m].")
+    com_velocity = deferred_item("_states", 1, "Shape (N, 2), in [m]/[s].")
+    com_acceleration = deferred_item("_states", 2, "Shape (N, 2), in [m]/[s]^2.")
+    zmp = deferred_item("_states", 3, "Shape (N, 2), in [m].")
 
 
 def predicted_states(maps: tuple[np.ndarray, ...], x0: Any, jerks: np.ndarray):

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from mpcwalk.qp.deferred import resolved
+from mpcwalk.qp.deferred import deferred_item
 
 Residuals = tuple[float, float | None, float | None]
 """``(primal_residual, dual_residual, duality_gap)`` of a solution."""
@@ -77,23 +77,9 @@ class QPResult:
             _residuals=given if held is None else held,
         )
 
-    def _kkt(self) -> Residuals:
-        return resolved(self, "_residuals")
-
-    @property
-    def primal_residual(self) -> float:
-        """``max`` constraint violation (see the class)."""
-        return self._kkt()[0]
-
-    @property
-    def dual_residual(self) -> float | None:
-        """``||P x + q + A^T y||_inf`` (see the class)."""
-        return self._kkt()[1]
-
-    @property
-    def duality_gap(self) -> float | None:
-        """The duality gap (see the class)."""
-        return self._kkt()[2]
+    primal_residual = deferred_item("_residuals", 0, "``max`` constraint violation.")
+    dual_residual = deferred_item("_residuals", 1, "``||P x + q + A^T y||_inf``, or None.")
+    duality_gap = deferred_item("_residuals", 2, "The duality gap, or None.")
 
 
 def kkt_residuals(
