@@ -7,7 +7,8 @@ from plans import arc_schedule
 from mpcwalk.exceptions import ConfigurationError
 from mpcwalk.gait.support_margins import support_margins
 from mpcwalk.generators import make_generator, rollout
-from mpcwalk.generators.analytic import AnalyticGenerator, closed_form_step
+from mpcwalk.generators.analytic import AnalyticGenerator
+from mpcwalk.generators.closed_form_step import closed_form_step
 from mpcwalk.models.lipm import LIPM
 
 T, Z_C, R_DS = 0.5, 0.23, 0.2  # paper M, Table 1

@@ -328,14 +328,13 @@ def test_generators_take_their_robot_options_from_the_preset():
     from mpcwalk.generators import generator_class
 
     g1 = get_robot("g1")  # [gait] mpc_sampling_period 0.05, mpc_horizon 40
-    traits = {"gait": g1.gait, "leg_limits": g1.leg_limits}
-    mpc = generator_class("mpc").robot_options(**traits)
+    mpc = generator_class("mpc").robot_options(g1)
     assert mpc == {"sampling_period": 0.05, "horizon": 40}
-    steps = generator_class("mpc-steps").robot_options(**traits)
+    steps = generator_class("mpc-steps").robot_options(g1)
     assert steps["horizon"] == 40 and "jerk_weight" not in steps
     assert isinstance(steps["reachability"], LegLimits) and steps["reachability"] == g1.leg_limits
-    assert generator_class("static-qp").robot_options(**traits) == {}
-    assert generator_class("analytic").robot_options(**traits) == {}
+    assert generator_class("static-qp").robot_options(g1) == {}
+    assert generator_class("analytic").robot_options(g1) == {"lateral_cop_reach": 0.035}
     schedule = make_schedule(g1, nb_steps=1)
     controller = WalkingController.for_robot(g1, "mpc", schedule, generator_options={"horizon": 20})
     assert controller.generator.parameters.horizon == 20  # the caller's option wins

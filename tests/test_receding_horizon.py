@@ -140,6 +140,7 @@ class Traits:
     com_height: float
     gait: GaitDefaults
     leg_limits: LegLimits
+    lateral_cop_reach: float = 0.05
 
 
 def test_generators_are_built_from_robot_traits_without_a_robot():
@@ -159,7 +160,7 @@ def test_generators_are_built_from_robot_traits_without_a_robot():
     assert steps.reachability == limits.rectangle()
     static = StaticQPGenerator.for_robot(traits)
     assert static.parameters == StaticQPGenerator.default_parameters
-    unset = MpcGenerator.robot_options(gait=GaitDefaults(), leg_limits=limits)
+    unset = MpcGenerator.robot_options(Traits(0.5, GaitDefaults(), limits))
     assert unset == {}
 
 

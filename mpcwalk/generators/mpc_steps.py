@@ -28,10 +28,10 @@ from mpcwalk.footsteps.landing_bands import LandingBands
 from mpcwalk.footsteps.leg_limits import LegLimits
 from mpcwalk.footsteps.reachability import ReachabilityRectangle
 from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.gait.gait_defaults import GaitDefaults
 from mpcwalk.gait.height_profile import height_profile
 from mpcwalk.gait.swing_retarget import SwingLimits
 from mpcwalk.generators.pattern_generator import GeneratorOutput
+from mpcwalk.generators.robot_traits import RobotTraits
 from mpcwalk.generators.step_timing_adaptation import StepTimingAdaptation
 from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
@@ -279,11 +279,11 @@ class FootstepMpcGenerator(StepTimingAdaptation):
         self._held: tuple[int, float] = (-1, 0.0)  # step whose lift-off is put off, how long
 
     @classmethod
-    def robot_options(cls, *, gait: GaitDefaults, leg_limits: LegLimits) -> dict[str, Any]:
+    def robot_options(cls, robot: RobotTraits) -> dict[str, Any]:
         """The robot's leg limits (``reachability``), and the horizon of its walking
         defaults (``mpc_sampling_period``, ``mpc_horizon``)."""
-        options = super().robot_options(gait=gait, leg_limits=leg_limits)
-        options["reachability"] = leg_limits
+        options = super().robot_options(robot)
+        options["reachability"] = robot.leg_limits
         return options
 
     # ------------------------------------------------------------------ reset

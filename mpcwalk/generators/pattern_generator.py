@@ -19,9 +19,7 @@ import numpy as np
 
 from mpcwalk._checks import checked_number
 from mpcwalk.exceptions import ConfigurationError, NotReset
-from mpcwalk.footsteps.leg_limits import LegLimits
 from mpcwalk.gait.contact_schedule import ContactSchedule
-from mpcwalk.gait.gait_defaults import GaitDefaults
 from mpcwalk.gait.height_profile import height_profile
 from mpcwalk.generators.robot_traits import RobotTraits
 from mpcwalk.models.cart_table import CartTable
@@ -166,9 +164,9 @@ class PatternGenerator(ABC):
         (raises ConfigurationError saying the fastest feasible timing); accepts any here."""
 
     @classmethod
-    def robot_options(cls, *, gait: GaitDefaults, leg_limits: LegLimits) -> dict[str, Any]:
-        """Keyword arguments of this generator taken from a robot's walking defaults (the
-        ``[gait]`` table of its preset) and leg limits; none by default.
+    def robot_options(cls, robot: RobotTraits) -> dict[str, Any]:
+        """Keyword arguments of this generator taken from a robot's traits (its walking
+        defaults, the ``[gait]`` table of its preset, its leg limits...); none by default.
         :meth:`for_robot` passes them under the caller's options."""
         return {}
 
@@ -176,7 +174,7 @@ class PatternGenerator(ABC):
     def for_robot(cls: type[G], robot: RobotTraits, **options: Any) -> G:
         """Generator on the robot's LIPM (its CoM height) with its :meth:`robot_options`;
         ``options`` override them (e.g. ``control_period=0.01``)."""
-        defaults = cls.robot_options(gait=robot.gait, leg_limits=robot.leg_limits)
+        defaults = cls.robot_options(robot)
         return cls(**{"lipm": LIPM(com_height=robot.com_height), **defaults, **options})
 
     def __init__(self, *, lipm: LIPM = LIPM(), control_period: float = 0.01) -> None:

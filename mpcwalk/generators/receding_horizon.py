@@ -22,9 +22,8 @@ import numpy as np
 
 from mpcwalk._checks import checked_number
 from mpcwalk.exceptions import ConfigurationError, NoSolutionFound
-from mpcwalk.footsteps.leg_limits import LegLimits
-from mpcwalk.gait.gait_defaults import GaitDefaults
 from mpcwalk.generators.pattern_generator import Horizon, PatternGenerator, SolveInfo
+from mpcwalk.generators.robot_traits import RobotTraits
 from mpcwalk.models.cart_table import CartTable
 from mpcwalk.models.com_state import ComState
 from mpcwalk.models.lipm import LIPM
@@ -70,11 +69,11 @@ class RecedingHorizonGenerator(PatternGenerator):
     PRESET_KEYS: ClassVar[dict[str, tuple[str, type]]] = {}
 
     @classmethod
-    def robot_options(cls, *, gait: GaitDefaults, leg_limits: LegLimits) -> dict[str, Any]:
+    def robot_options(cls, robot: RobotTraits) -> dict[str, Any]:
         """The robot's walking defaults named in :attr:`PRESET_KEYS`, where it sets them."""
         options = {}
         for key, (name, cast) in cls.PRESET_KEYS.items():
-            value = getattr(gait, key)
+            value = getattr(robot.gait, key)
             if value is not None:
                 options[name] = cast(value)
         return options

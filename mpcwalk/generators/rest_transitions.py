@@ -13,8 +13,12 @@ can at most be at the far edge of the other sole, at ``d + w / 2`` from the tors
 which carries a DCM starting at rest on the waypoint by at most
 ``(d + w / 2) (exp(omega t_b) - 1)``. When this reaches the support sole's inner edge,
 ``d - w / 2``, the robot can take the paper's first step as it is (the paper's robot,
-bioloid-like: 0.027 m for 0.010 m). When it cannot (g1: 0.039 m for 0.084 m; romeo: 0.037 m
-for 0.046 m), the step is started at rest instead: the first step's torso waypoint is moved to
+bioloid-like: 0.027 m for 0.010 m). Where the ankle roll motors cannot hold the robot's weight
+``m g`` on a sole's edge, the CoP reaches only ``r = tau_max / (m g)`` sideways from a sole's
+centre, and ``r`` takes the place of ``w / 2`` (the drafted ``human`` of example-robot-data:
+20 N m ankle rolls for 74.7 kg, ``r`` = 2.7 cm on a sole 12.1 cm wide; 0.027 m for 0.055 m,
+where the sole's width alone gave 0.036 m for 0.022 m). When it cannot (g1: 0.039 m for
+0.084 m; romeo: 0.037 m for 0.046 m), the step is started at rest instead: the first step's torso waypoint is moved to
 the point from which the closed form starts with zero velocity (the same boundary value
 problem, eq. 6-18, one more condition), and the CoM is shifted there during the standing time
 before the walk along a quintic (zero velocity and acceleration at both ends). The stop
@@ -28,13 +32,23 @@ import numpy as np
 
 
 def start_is_capturable(
-    waypoint: np.ndarray, support: np.ndarray, sole_width: float, omega: float, duration: float
+    waypoint: np.ndarray,
+    support: np.ndarray,
+    sole_width: float,
+    omega: float,
+    duration: float,
+    *,
+    cop_reach: float | None = None,
 ) -> bool:
     """Whether a DCM at rest on ``waypoint`` can reach the support sole centred at ``support``
     (both (2,), in [m]) within a double support of ``duration`` [s] (see the module
-    docstring); ``sole_width`` in [m], ``omega`` the LIPM's ``sqrt(g / z_c)`` in [1/s]."""
+    docstring); ``sole_width`` in [m], ``omega`` the LIPM's ``sqrt(g / z_c)`` in [1/s].
+    ``cop_reach`` [m]: how far sideways from a sole's centre the ankles can carry the CoP,
+    where it is less than half the sole's width (None: half the sole's width)."""
     d = float(np.linalg.norm(np.asarray(support, dtype=float) - np.asarray(waypoint, dtype=float)))
     half = 0.5 * float(sole_width)
+    if cop_reach is not None:
+        half = min(half, float(cop_reach))
     return (d + half) * math.expm1(omega * duration) >= d - half
 
 

@@ -1,4 +1,5 @@
-"""What a generator reads of a robot: its CoM height, walking defaults and leg limits."""
+"""What a generator reads of a robot: its CoM height, walking defaults, leg limits and how far
+sideways its ankles can carry the CoP."""
 
 from typing import Protocol
 
@@ -23,3 +24,8 @@ class RobotTraits(Protocol):
     @property
     def leg_limits(self) -> LegLimits:
         """Per-step reach of the legs."""
+
+    @property
+    def lateral_cop_reach(self) -> float:
+        """How far sideways from a sole's centre the CoP can go with the whole weight on that
+        foot [m] (half the sole's width, or less where the ankle roll motors are weaker)."""

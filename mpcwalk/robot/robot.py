@@ -111,6 +111,20 @@ class Robot:
         return float(pin.computeTotalMass(self.model))
 
     @functools.cached_property
+    def lateral_cop_reach(self) -> float:
+        """How far sideways from a sole's centre the CoP can go with the whole weight on that
+        foot [m]: half the sole's width, or less where the ankle roll motors cannot hold the
+        weight there (their torque limit over ``m g``, the weaker of the two ankles)."""
+        reach = 0.5 * float(self.sole_size[1])
+        weight = self.total_mass * float(np.linalg.norm(self.model.gravity.linear))
+        for side in ("left", "right"):
+            joint = self.joint_roles.joint(side, "ankle_roll")
+            if joint is not None and weight > 0.0:
+                limit = float(self.servo_gains.torque_limit[self.joint_names.index(joint)])
+                reach = min(reach, limit / weight)
+        return reach
+
+    @functools.cached_property
     def hip_joints(self) -> tuple[str, str]:
         """The hip of each leg (left, right): the joint of each sole's chain closest to the
         base that the other sole's chain does not hold (where the legs branch).
