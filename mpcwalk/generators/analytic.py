@@ -120,11 +120,8 @@ class AnalyticGenerator(ClosedFormGenerator):
     def _at_rest(self, waypoint, support, duration: float) -> bool:
         if self.start_at_rest is not None:
             return self.start_at_rest
-        width, reach, omega = (
-            self.current_schedule.foot.width,
-            self.lateral_cop_reach,
-            self.lipm.omega,
-        )
+        width, omega = self.current_schedule.foot.width, self.lipm.omega
+        reach = self.lateral_cop_reach
         return not start_is_capturable(waypoint, support, width, omega, duration, cop_reach=reach)
 
     def _rest_transitions(self, schedule: ContactSchedule) -> None:

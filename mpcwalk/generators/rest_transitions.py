@@ -18,12 +18,13 @@ bioloid-like: 0.027 m for 0.010 m). Where the ankle roll motors cannot hold the 
 centre, and ``r`` takes the place of ``w / 2`` (the drafted ``human`` of example-robot-data:
 20 N m ankle rolls for 74.7 kg, ``r`` = 2.7 cm on a sole 12.1 cm wide; 0.027 m for 0.055 m,
 where the sole's width alone gave 0.036 m for 0.022 m). When it cannot (g1: 0.039 m for
-0.084 m; romeo: 0.037 m for 0.046 m), the step is started at rest instead: the first step's torso waypoint is moved to
-the point from which the closed form starts with zero velocity (the same boundary value
-problem, eq. 6-18, one more condition), and the CoM is shifted there during the standing time
-before the walk along a quintic (zero velocity and acceleration at both ends). The stop
-mirrors it: the last step's final waypoint is moved to where it ends at rest, and the CoM
-goes back above the feet's midpoint during the standing time after the walk.
+0.084 m; romeo: 0.037 m for 0.046 m), the step is started at rest instead: the first step's
+torso waypoint is moved to the point from which the closed form starts with zero velocity
+(the same boundary value problem, eq. 6-18, one more condition), and the CoM is shifted there
+during the standing time before the walk along a quintic (zero velocity and acceleration at
+both ends). The stop mirrors it: the last step's final waypoint is moved to where it ends
+at rest, and the CoM goes back above the feet's midpoint during the standing time after the
+walk.
 """
 
 import math
