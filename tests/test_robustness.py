@@ -241,6 +241,24 @@ def test_the_terrain_cells_and_the_terrain_goal_of_mpc():
     assert "| bioloid-like | mpc | stairs | 1/2, 50 %" in text and "| 2/2 | 1/2 |" in text
 
 
+def test_the_goals_hold_on_every_robot_of_the_table():
+    """Every robot of the table gets its goal rows (in the table's order), not only the
+    small humanoid: a robot whose combinations fall shows the goal as not met."""
+    talos = [
+        {**_row("mpc", "mass", "walked"), "robot": "talos"},
+        {**_row("mpc", "mass+slope", "fell"), "robot": "talos", "group": "combination"},
+        {**_row("paper-m", "mass", "walked"), "robot": "talos"},
+    ]
+    rows = [_row("mpc", "mass", "walked"), *talos]
+    checks = goal_checks(rows)
+    assert list(dict.fromkeys(c["robot"] for c in checks)) == ["bioloid-like", "talos"]
+    [combined] = [c for c in checks if c["robot"] == "talos" and "combinations" in c["goal"]]
+    assert not combined["met"] and combined["value"].startswith("0/1")
+    assert combined["cases"] == "mpc-mass+slope"
+    [single] = [c for c in checks if c["robot"] == "talos" and "single-factor" in c["goal"]]
+    assert single["met"] and single["value"].startswith("1/1")
+
+
 def test_the_worst_cases_name_stopped_and_fallen_walks_with_their_command():
     base = {
         "vx": 0.1, "vy": 0.0, "vyaw": 0.0, "nb_steps": 4, "pushes": [], "mass_scale": 1.3,

@@ -1,5 +1,5 @@
-"""The robustness matrix's cells and their success rates: the goals' robots and
-controllers, which rows make a cell (a factor, the nominal walks, every factor on the floor,
+"""The robustness matrix's cells and their success rates: the goals' controllers (on every
+robot of the table), which rows make a cell (a factor, the nominal walks, every factor on the floor,
 every terrain factor, the combinations), rates with their Wilson intervals.
 Shared by the report (:mod:`mpcwalk.experiments.robustness.report`) and its figures
 (:mod:`mpcwalk.experiments.robustness.plots`)."""
@@ -10,9 +10,8 @@ from mpcwalk.experiments.reporting import wilson
 from mpcwalk.experiments.robustness.terrains import TERRAIN_FACTORS
 from mpcwalk.experiments.survival import survived
 
-#: The QP controllers of the goals, on the robots of the goals.
+#: The QP controllers of the goals; the goals hold on every robot of the table.
 GOAL_CONTROLLERS = ("preview", "mpc", "mpc-steps")
-GOAL_ROBOTS = ("bioloid-like", "g1")
 #: Success rates the goals ask for: over the single-factor walks on the floor, over the
 #: combinations.
 GOAL_SINGLE, GOAL_COMBINATION = 0.95, 0.85
@@ -74,7 +73,6 @@ def robots_and_controllers(rows: Sequence[dict]) -> dict[str, list[str]]:
 __all__ = [
     "GOAL_COMBINATION",
     "GOAL_CONTROLLERS",
-    "GOAL_ROBOTS",
     "GOAL_SINGLE",
     "GOAL_TERRAIN",
     "REFERENCE",

@@ -15,7 +15,6 @@ import numpy as np
 
 from mpcwalk.experiments.robustness.cells import (
     GOAL_CONTROLLERS,
-    GOAL_ROBOTS,
     REFERENCE,
     cell_rows,
     present_cells,
@@ -147,11 +146,10 @@ def write_figures(out: Path, rows: Sequence[dict]) -> list[str]:
     by_robot = robots_and_controllers(rows)
     for robot, controllers in by_robot.items():
         save(plot_success_heatmap(rows, robot, controllers), f"matrix_success_{robot}.png")
-    goals = [r for r in GOAL_ROBOTS if r in by_robot]
     all_robots = list(by_robot)
     groups: dict[str, tuple[Sequence[str], Sequence[str]]] = {
-        f"QP controllers on {', '.join(goals)}": (GOAL_CONTROLLERS, goals),
-        f"{REFERENCE} on {', '.join(goals)}": ((REFERENCE,), goals),
+        f"QP controllers on {', '.join(all_robots)}": (GOAL_CONTROLLERS, all_robots),
+        f"{REFERENCE} on {', '.join(all_robots)}": ((REFERENCE,), all_robots),
     }
     for label, (group, robots) in groups.items():
         if any(r["controller"] in group for r in rows if r["group"] == "combination"):
