@@ -19,6 +19,7 @@ NAMES = [
     "paper_a",
     "robustness",
     "robustness_terrain",
+    "robustness_cadence",
     "robustness_torque",
     "push_map",
     "push_map_torque",

@@ -9,7 +9,7 @@ import pytest
 
 from mpcwalk.cli import main as cli_main
 from mpcwalk.exceptions import ConfigurationError
-from mpcwalk.experiments.reporting import wilson
+from mpcwalk.experiments.reporting import find_results, wilson
 from mpcwalk.experiments.robustness.cells import cell_rows, rate, rate_text
 from mpcwalk.experiments.robustness.config import DEFAULT_MATRIX, load_matrix_config
 from mpcwalk.experiments.robustness.goals import goal_checks
@@ -56,6 +56,21 @@ def test_the_full_matrix_and_its_quick_form():
     assert not compatible(["stairs", "roughness"]) and not compatible(["slope", "stones"])
 
 
+def test_the_stored_tables_hold_the_cases_of_their_configurations():
+    """The case id of every walk of the stored matrices is its case's id now: a new field of
+    the walk specification left at its default keeps the ids, so that a run on the same
+    folder finds its walks done (and a change that alters walks shows here)."""
+    for name in ("robustness", "robustness_terrain", "robustness_torque"):
+        folder = find_results(name)
+        if folder is None:  # an installed package without the repository's results
+            pytest.skip("no stored results beside this package")
+        variant = {"robustness": None, "robustness_terrain": "terrain_only"}.get(name, "torque")
+        config = load_matrix_config(variant=variant)
+        ids = {spec.case_id for spec in plan_matrix(config).cases}
+        stored = {row["case_id"] for row in read_rows(folder / "results.csv")}
+        assert stored == ids, name
+
+
 def test_the_terrain_part_is_the_whole_matrixs_terrain_worlds():
     full = load_matrix_config()
     terrain = load_matrix_config(variant="terrain_only")
@@ -95,6 +110,31 @@ def test_the_torque_matrix_is_the_whole_matrixs_flat_worlds_torque_controlled(tm
     path.write_text(DEFAULT_MATRIX.read_text().replace('"torque"\nfactors', '"hydraulic"\nfactors'))
     with pytest.raises(ConfigurationError, match="actuation must be one of"):
         load_matrix_config(path, variant="torque")
+
+
+def test_the_cadence_matrix_is_the_whole_matrixs_terrain_walks_at_the_terrain_cadence(tmp_path):
+    full = load_matrix_config()
+    cadence = load_matrix_config(variant="terrain_cadence")
+    assert cadence.terrain_cadence and not full.terrain_cadence
+    assert cadence.factors == TERRAIN_FACTORS and list(cadence.robots) == list(full.robots)
+    assert cadence.settings()["terrain_cadence"] is True
+    assert "terrain_cadence" not in full.settings()  # the matrix keeps its fingerprint
+    only = {"talos": cadence.robots["talos"]}
+    cases = plan_matrix(dataclasses.replace(cadence, robots=only)).cases
+    assert cases and all(case.plan.terrain_cadence for case in cases)
+    assert {case.controller.name for case in cases} == {"paper-m", "mpc", "mpc-steps"}
+    walks = plan_matrix(dataclasses.replace(full, robots={"talos": full.robots["talos"]})).cases
+    ids = {case.case_id for case in walks}
+    # the same walks as the whole matrix's terrain walks, their cadence apart
+    assert {case.replace(terrain_cadence=False).case_id for case in cases} <= ids
+    flat = plan_matrix(dataclasses.replace(cadence, robots=only, factors=("mass",))).cases
+    assert not any(case.plan.terrain_cadence for case in flat)  # nothing to lengthen there
+    path = tmp_path / "matrix.toml"
+    path.write_text(
+        DEFAULT_MATRIX.read_text().replace("terrain_cadence = true", "terrain_cadence = 1")
+    )
+    with pytest.raises(ConfigurationError, match="terrain_cadence must be true or false"):
+        load_matrix_config(path, variant="terrain_cadence")
 
 
 def test_the_terrain_worlds_are_built_to_the_robots_size():

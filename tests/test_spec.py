@@ -311,6 +311,7 @@ def _every_field_changed() -> dict:
         "nb_steps": 3,
         "duration": 2.0,
         "step_duration": 0.6,
+        "terrain_cadence": True,
         "double_support_ratio": 0.3,
         "step_height": 0.03,
         "control_period": 0.02,

@@ -156,6 +156,16 @@ def add_walk_options(p: argparse.ArgumentParser) -> None:
         help="step duration T [s] (default: the generator's own, else the robot preset's)",
     )
     plan.add_argument(
+        "--terrain-cadence",
+        dest="terrain_cadence",
+        action="store_true",
+        default=S,
+        help="on a terrain (--terrain), lengthen every step so that none advances faster "
+        "than 75 %% of the flat legs' top speed, the command divided alike (the same "
+        "footsteps, slower); stairs and stones otherwise make the walk climb several times "
+        "faster than commanded",
+    )
+    plan.add_argument(
         "--ds-ratio",
         dest="double_support_ratio",
         type=float,
@@ -186,6 +196,7 @@ def add_walk_options(p: argparse.ArgumentParser) -> None:
 _FIELDS = (
     "generator", "arm_swing", "swing_profile", "feedback", "path", "duration", "nb_steps",
     "step_duration", "double_support_ratio", "step_height", "control_period", "noise_scale",
+    "terrain_cadence",
     "latency", "ideal", "state", "mass_scale", "friction", "servo_strength", "friction_cone",
     "impratio", "ground_tilt", "ground_tilt_direction", "ground_roughness", "seed", "actuation",
 )  # fmt: skip

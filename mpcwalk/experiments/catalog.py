@@ -27,6 +27,12 @@ def _robustness() -> Experiment:
     return Robustness()
 
 
+def _robustness_cadence() -> Experiment:
+    from mpcwalk.experiments.robustness.experiment import RobustnessCadence
+
+    return RobustnessCadence()
+
+
 def _robustness_terrain() -> Experiment:
     from mpcwalk.experiments.robustness.experiment import RobustnessTerrain
 
@@ -98,6 +104,11 @@ EXPERIMENTS: Registry[Experiment] = Registry(
             "robustness_terrain",
             "the robustness matrix's terrain factors alone (stairs, slope, stepping stones)",
             _robustness_terrain,
+        ),
+        Entry(
+            "robustness_cadence",
+            "the robustness matrix's terrain factors on every robot at the terrain cadence",
+            _robustness_cadence,
         ),
         Entry(
             "robustness_torque",

@@ -11,13 +11,14 @@ the robot (its rises within its legs' reach, its treads longer than its soles:
 """
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
 from mpcwalk._checks import checked_number
 from mpcwalk.exceptions import ConfigurationError, TerrainError
+from mpcwalk.footsteps.cadence import cadence_stretch
 from mpcwalk.footsteps.footstep import FootGeometry, FootstepPlan, StepTiming
 from mpcwalk.gait.contact_schedule import ContactSchedule
 from mpcwalk.generators import generator_class
@@ -179,10 +180,22 @@ def set_up_walk(spec: WalkSpec, robot: Robot | None = None) -> WalkSetup:
         terrain=terrain,
         reach=reach,
     )
+    cadence: dict[str, Any] = {}
+    if plan.terrain_cadence and terrain is not None:
+        stretch = cadence_stretch(footsteps, robot.leg_limits.max_step_forward)
+        if stretch > 1.0 + 1e-9:  # the same footsteps, each step longer
+            timing = replace(timing, step_duration=stretch * timing.step_duration)
+            footsteps = replace(footsteps, timing=timing)
+            # the resolved walk as it steps: the stretched command, its number of steps
+            cadence = {"nb_steps": nb_steps, "duration": None}
+            if plan.command is not None:
+                cadence["command"] = tuple(v / stretch for v in plan.command)
     schedule = ContactSchedule(footsteps, FootGeometry(*robot.sole_size))
     generator_class(controller.generator).check_timing(schedule, LIPM(com_height=robot.com_height))
     pushes = check_pushes(spec.disturbances.external_forces(), robot, schedule.duration)
     resolved = spec.replace(
+        **cadence,
+        terrain_cadence=False,
         step_duration=timing.step_duration,
         double_support_ratio=timing.double_support_ratio,
         step_height=robot.gait.step_height if plan.step_height is None else plan.step_height,

@@ -1,7 +1,9 @@
 """The robustness matrix's configuration: robots, controllers, factors and their ranges,
 read from the ``config.toml`` beside this module (:func:`load_matrix_config`), with one of
 its variant tables over it (``[quick]``: the test suite's; ``[terrain_only]``: the terrain
-factors alone; ``[torque]``: the robots driven by torque motors and the inverse dynamics)."""
+factors alone; ``[terrain_cadence]``: the terrain factors alone, every terrain walk at the
+terrain cadence; ``[torque]``: the robots driven by torque motors and the inverse
+dynamics)."""
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -44,25 +46,30 @@ class MatrixConfig:
     terrain: TerrainLayout = field(default_factory=TerrainLayout)
     variant: str | None = None
     actuation: str = "position"
+    terrain_cadence: bool = False
 
     def settings(self) -> dict[str, Any]:
         """The parameters as JSON (the sweep's fingerprint)."""
-        return {
-            "robots": {name: vars(plan) for name, plan in self.robots.items()},
-            "ranges": dict(self.ranges),
-            "slow_controllers": dict(self.slow_controllers),
-            "levels": self.levels,
-            "combinations": self.combinations,
-            "combination_size": list(self.combination_size),
-            "nominal_seeds": list(self.nominal_seeds),
-            "seed": self.seed,
-            "timeout": self.timeout,
-            "control_period": self.control_period,
-            "mode": self.mode,
-            "factors": None if self.factors is None else list(self.factors),
-            "terrain": vars(self.terrain),
-            "variant": self.variant,
-        } | ({} if self.actuation == "position" else {"actuation": self.actuation})
+        return (
+            {
+                "robots": {name: vars(plan) for name, plan in self.robots.items()},
+                "ranges": dict(self.ranges),
+                "slow_controllers": dict(self.slow_controllers),
+                "levels": self.levels,
+                "combinations": self.combinations,
+                "combination_size": list(self.combination_size),
+                "nominal_seeds": list(self.nominal_seeds),
+                "seed": self.seed,
+                "timeout": self.timeout,
+                "control_period": self.control_period,
+                "mode": self.mode,
+                "factors": None if self.factors is None else list(self.factors),
+                "terrain": vars(self.terrain),
+                "variant": self.variant,
+            }
+            | ({} if self.actuation == "position" else {"actuation": self.actuation})
+            | ({"terrain_cadence": True} if self.terrain_cadence else {})
+        )
 
 
 def load_matrix_config(
@@ -72,8 +79,10 @@ def load_matrix_config(
     ``"terrain_only"``), then ``quick`` its ``[quick]`` table. A variant table holds
     ``robots``, ``controllers``, ``nb_steps``, ``levels``, ``combinations``,
     ``nominal_seeds``, ``factors`` (the factors of the worlds, default: all), ranges of
-    ``[factors]``, ``terrain``, a table of entries of ``[terrain]``, and ``actuation``
-    (:data:`~mpcwalk.sim.actuation.ACTUATIONS`, default ``"position"``).
+    ``[factors]``, ``terrain``, a table of entries of ``[terrain]``, ``actuation``
+    (:data:`~mpcwalk.sim.actuation.ACTUATIONS`, default ``"position"``) and
+    ``terrain_cadence`` (true: the walks on a terrain at the terrain cadence,
+    :attr:`~mpcwalk.walking.specification.PlanSpec.terrain_cadence`; default false).
 
     Raises:
         ConfigurationError: A malformed table, or a variant the file does not hold.
@@ -97,6 +106,12 @@ def load_matrix_config(
         low, high = data.get("combination_size", (2, 4))
         factors = overlay.get("factors")
         layout = overlay.get("terrain", {})
+        cadence = overlay.get("terrain_cadence", False)
+        if not isinstance(cadence, bool):
+            raise ConfigurationError(
+                f"Malformed matrix file {path}: terrain_cadence must be true or false, got "
+                f"{cadence!r}."
+            )
         return MatrixConfig(
             robots=robots,
             ranges=ranges,
@@ -113,6 +128,7 @@ def load_matrix_config(
             terrain=TerrainLayout.from_table({**data.get("terrain", {}), **layout}),
             variant=variant,
             actuation=check_actuation(overlay.get("actuation", "position")),
+            terrain_cadence=cadence,
         )
     except (KeyError, TypeError, ValueError) as error:
         raise ConfigurationError(f"Malformed matrix file {path}: {error!r}.") from None

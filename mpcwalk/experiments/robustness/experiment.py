@@ -1,7 +1,8 @@
-"""The robustness matrix as experiments of the registry: ``robustness`` (every factor) and
+"""The robustness matrix as experiments of the registry: ``robustness`` (every factor),
 ``robustness_terrain`` (the terrain factors alone: the ``[terrain_only]`` table of the
-matrix's ``config.toml``) and ``robustness_torque`` (the other factors, the robots driven by
-torque motors: its ``[torque]`` table)."""
+matrix's ``config.toml``), ``robustness_cadence`` (the terrain factors on every robot at the
+terrain cadence: its ``[terrain_cadence]`` table) and ``robustness_torque`` (the other
+factors, the robots driven by torque motors: its ``[torque]`` table)."""
 
 import json
 from pathlib import Path
@@ -66,6 +67,15 @@ class RobustnessTerrain(Robustness):
 
     def config(self, *, quick: bool = False) -> MatrixConfig:
         return load_matrix_config(self.config_file, quick=quick, variant=self.variant)
+
+
+class RobustnessCadence(RobustnessTerrain):
+    """The terrain factors of the robustness matrix on every robot, each terrain walk at the
+    terrain cadence (its ``[terrain_cadence]`` table)."""
+
+    name = "robustness_cadence"
+    summary = "the robustness matrix's terrain factors on every robot at the terrain cadence"
+    variant = "terrain_cadence"
 
 
 class RobustnessTorque(RobustnessTerrain):

@@ -137,6 +137,7 @@ def world_case(robot_name: str, plan: RobotPlan, controller: str, world: World, 
         control_period=config.control_period,
         labels=labels,
         **({} if config.actuation == "position" else {"actuation": config.actuation}),
+        **({"terrain_cadence": True} if config.terrain_cadence and "terrain" in changes else {}),
         **changes,
     )
 

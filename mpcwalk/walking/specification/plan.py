@@ -35,6 +35,12 @@ class PlanSpec:
         double_support_ratio: Share r_ds of a step in double support, in [0, 0.95].
         step_height: Swing-foot height [m] (checked against the robot when it walks).
         control_period: Controller tick [s], a multiple of the physics step.
+        terrain_cadence: On a terrain, every step lengthened by the factor that keeps its
+            advance within 75 % of the flat legs' top speed, the command divided by it (the
+            same footsteps, :func:`~mpcwalk.footsteps.cadence.cadence_stretch`): stairs and
+            stones lengthen the steps, and at the preset's step duration the walk would
+            climb several times faster than commanded. Nothing changes on the flat floor or
+            where the steps stay within that speed; the pushes keep their times.
 
     Raises:
         ConfigurationError: Both a command and a path, both ``nb_steps`` and ``duration``,
@@ -49,8 +55,13 @@ class PlanSpec:
     double_support_ratio: float | None = None
     step_height: float | None = None
     control_period: float = 0.01
+    terrain_cadence: bool = False
 
     def __post_init__(self) -> None:
+        if not isinstance(self.terrain_cadence, bool):
+            raise ConfigurationError(
+                f"terrain_cadence must be true or false, got {self.terrain_cadence!r}."
+            )
         if self.command is not None:
             object.__setattr__(self, "command", _command(self.command))
         if self.path is not None:

@@ -142,6 +142,8 @@ def command_line(spec: Any, out: str = "walk") -> str:
         words += ["--terrain", TERRAIN_FILE]
     if plan.control_period != 0.01:
         words += ["--control-period", _text(plan.control_period)]
+    if plan.terrain_cadence:
+        words.append("--terrain-cadence")
     words += ["--seed", str(spec.run.seed), "--out", out]
     joined: list[str] = []  # a value starting with "-" is glued to its option
     for word in words:

@@ -47,6 +47,7 @@ NOTES = {
     "double_support_ratio": "share of a step in double support",
     "step_height": "[m] swing-foot height",
     "control_period": "[s] controller tick",
+    "terrain_cadence": "on a terrain, steps lengthened to 75 % of the flat top speed",
     "noise_scale": "factor on the sensor model's noise and bias",
     "latency": "[s] sensing-to-actuation latency (unset: one control period)",
     "ideal": "exact sensors without latency",

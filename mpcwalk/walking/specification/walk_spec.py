@@ -252,6 +252,8 @@ class WalkSpec:
         for contact in ("friction_cone", "impratio"):  # walks in MuJoCo's default contacts too
             if values["world"][contact] is None:
                 del values["world"][contact]
+        if not values["plan"]["terrain_cadence"]:  # walks at the plan's own cadence too
+            del values["plan"]["terrain_cadence"]
         text = json.dumps(values, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
