@@ -16,6 +16,7 @@ from mpcwalk.experiments.robustness.goals import goal_checks
 from mpcwalk.experiments.robustness.report import success_table, worst_cases
 from mpcwalk.experiments.robustness.terrain_report import (
     skipped_text,
+    terrain_command,
     terrain_goal_text,
     terrain_table,
 )
@@ -60,11 +61,16 @@ def test_the_stored_tables_hold_the_cases_of_their_configurations():
     """The case id of every walk of the stored matrices is its case's id now: a new field of
     the walk specification left at its default keeps the ids, so that a run on the same
     folder finds its walks done (and a change that alters walks shows here)."""
-    for name in ("robustness", "robustness_terrain", "robustness_torque"):
+    variants = {
+        "robustness": None,
+        "robustness_terrain": "terrain_only",
+        "robustness_cadence": "terrain_cadence",
+        "robustness_torque": "torque",
+    }
+    for name, variant in variants.items():
         folder = find_results(name)
         if folder is None:  # an installed package without the repository's results
             pytest.skip("no stored results beside this package")
-        variant = {"robustness": None, "robustness_terrain": "terrain_only"}.get(name, "torque")
         config = load_matrix_config(variant=variant)
         ids = {spec.case_id for spec in plan_matrix(config).cases}
         stored = {row["case_id"] for row in read_rows(folder / "results.csv")}
@@ -279,6 +285,13 @@ def test_the_terrain_cells_and_the_terrain_goal_of_mpc():
     )
     text = terrain_table(rows)
     assert "| bioloid-like | mpc | stairs | 1/2, 50 %" in text and "| 2/2 | 1/2 |" in text
+    # the command that walks a terrain row again, at the terrain cadence when asked
+    assert "--terrain terrain.toml" in terrain_command(rows[0])
+    assert "--terrain-cadence" not in terrain_command(rows[0])
+    assert "--terrain-cadence" in terrain_command(rows[0], "terrains/a.toml", True)
+    assert "--terrain-cadence" not in terrain_command(rows[2], None, True)  # on the floor
+    fallen = [{**rows[1], "steps_planned": 25}]
+    assert "--terrain-cadence" in worst_cases(fallen, terrain_cadence=True)
 
 
 def test_the_goals_hold_on_every_robot_of_the_table():

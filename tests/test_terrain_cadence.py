@@ -90,6 +90,16 @@ def test_the_cadence_stretches_the_clock_and_keeps_the_footsteps():
     assert flat.timing.step_duration == T and flat.spec.plan.command == (0.1, 0.0, 0.0)
 
 
+def test_a_cadence_beyond_the_longest_step_duration_is_a_named_error():
+    robot = load_robot("bioloid-like", visual=False)
+    spec = WalkSpec.build(
+        "bioloid-like", command=(0.002, 0.0, 0.0), nb_steps=16, terrain=STAIRS, step_duration=30.0
+    )
+    set_up_walk(spec, robot)  # 30 s steps are a walk
+    with pytest.raises(ConfigurationError, match="terrain cadence would lengthen the steps"):
+        set_up_walk(spec.replace(terrain_cadence=True), robot)
+
+
 @pytest.mark.slow
 def test_the_small_humanoid_climbs_the_stairs_it_falls_on_at_its_own_cadence():
     """At the preset's 0.5 s a step the robot climbs a tread (0.15 m) a step, 0.3 m/s for a

@@ -30,6 +30,7 @@ from mpcwalk.walking.controller_builder import check_controller, walk_timing
 from mpcwalk.walking.footstep_planning import plan_walk_footsteps
 from mpcwalk.walking.outputs import check_video_path
 from mpcwalk.walking.specification import WalkSpec
+from mpcwalk.walking.specification.plan import MAX_STEP_DURATION
 
 #: Largest push force, in multiples of the robot's weight.
 MAX_PUSH_WEIGHTS = 100.0
@@ -183,6 +184,13 @@ def set_up_walk(spec: WalkSpec, robot: Robot | None = None) -> WalkSetup:
     cadence: dict[str, Any] = {}
     if plan.terrain_cadence and terrain is not None:
         stretch = cadence_stretch(footsteps, robot.leg_limits.max_step_forward)
+        if stretch * timing.step_duration > MAX_STEP_DURATION:
+            raise ConfigurationError(
+                f"The terrain cadence would lengthen the steps of {timing.step_duration:g} s "
+                f"by {stretch:.2f} to {stretch * timing.step_duration:.3g} s, beyond "
+                f"{MAX_STEP_DURATION:g} s; walk without --terrain-cadence, or with shorter "
+                "steps (--step-duration)."
+            )
         if stretch > 1.0 + 1e-9:  # the same footsteps, each step longer
             timing = replace(timing, step_duration=stretch * timing.step_duration)
             footsteps = replace(footsteps, timing=timing)

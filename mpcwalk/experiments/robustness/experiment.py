@@ -54,6 +54,7 @@ class Robustness(Experiment):
             scaling=scaling.read_text() if scaling.exists() else "",
             figures=names,
             skipped=settings.get("skipped", []),
+            terrain_cadence=bool(settings.get("terrain_cadence", False)),
         )
 
 

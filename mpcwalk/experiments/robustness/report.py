@@ -91,11 +91,16 @@ def world_text(row: dict[str, Any]) -> str:
 
 
 def worst_cases(
-    rows: Sequence[dict], *, limit: int = 30, terrain_files: Mapping[str, str] | None = None
+    rows: Sequence[dict],
+    *,
+    limit: int = 30,
+    terrain_files: Mapping[str, str] | None = None,
+    terrain_cadence: bool = False,
 ) -> str:
     """The walks that did not survive (fell, stopped, or could not run), the goals' first,
     earliest falls first, each with the ``mpcwalk walk`` command that reruns it (a terrain
-    walk's with its terrain file, ``terrain_files``: case id -> path in the folder)."""
+    walk's with its terrain file, ``terrain_files``: case id -> path in the folder; and at
+    the terrain cadence when the matrix walked its terrains so, ``terrain_cadence``)."""
     failed = [row for row in rows if not survived(row)]
     if not failed:
         return "Every walk survived.\n"
@@ -103,6 +108,7 @@ def worst_cases(
     def key(row):
         return (row["controller"] not in GOAL_CONTROLLERS, row.get("fall_time_s") or 0.0)
 
+    files = terrain_files or {}
     lines = []
     for row in sorted(failed, key=key)[:limit]:
         steps = f", {row['steps_completed']}/{row['steps_planned']} steps"
@@ -115,7 +121,7 @@ def worst_cases(
         lines.append(
             f"- `{row['case_id']}` {row['robot']}, {row['controller']}, {row['factor']}: "
             f"{world_text(row)}; {what}{steps}\n"
-            f"  `{terrain_command(row, (terrain_files or {}).get(str(row['case_id'])))}`"
+            f"  `{terrain_command(row, files.get(str(row['case_id'])), terrain_cadence)}`"
         )
     more = len(failed) - len(lines)
     tail = f"\n\n({more} more in `results.csv`.)" if more > 0 else ""
@@ -179,11 +185,13 @@ def write_report(
     scaling: str = "",
     figures: Sequence[str] = (),
     skipped: Sequence[Mapping[str, Any]] = (),
+    terrain_cadence: bool = False,
 ) -> Path:
     """Write ``report.md`` into ``out_dir`` (showing the ``figures``, file names of
     :func:`~mpcwalk.experiments.robustness.plots.write_figures`; the worlds ``skipped``
     for their terrain; the terrain files of the terrain walks that did not survive, in
-    ``terrains/``); returns its path."""
+    ``terrains/``; their commands at the terrain cadence with ``terrain_cadence``);
+    returns its path."""
     out = Path(out_dir)
     names = list(figures)
     parts = [header, "## Goals of the QP controllers\n", goals_text(goal_checks(rows))]
@@ -201,7 +209,7 @@ def write_report(
         "## The walks that succeed\n",
         quality_table(rows),
         "## Worst cases\n",
-        worst_cases(rows, terrain_files=files),
+        worst_cases(rows, terrain_files=files, terrain_cadence=terrain_cadence),
     ]
     if names:
         parts += ["## Figures\n", "\n".join(f"![{n}]({n})" for n in names) + "\n"]

@@ -37,15 +37,19 @@ def terrain_words(row: Mapping[str, Any]) -> str:
     return describe(terrain_of_text(row[LAYOUT_LABEL]))
 
 
-def terrain_command(row: Mapping[str, Any], terrain_file: str | None = None) -> str:
+def terrain_command(
+    row: Mapping[str, Any], terrain_file: str | None = None, terrain_cadence: bool = False
+) -> str:
     """The ``mpcwalk walk`` command that walks a row again alone; on a terrain, reading it
-    from ``terrain_file`` (a path in the results folder; None: ``terrain.toml``)."""
+    from ``terrain_file`` (a path in the results folder; None: ``terrain.toml``), at the
+    terrain cadence with ``terrain_cadence``."""
     from mpcwalk.walking.sweep_cases import spec_of_row
 
     spec = spec_of_row(dict(row))
     if not row.get(LAYOUT_LABEL):
         return spec.command_line()
-    spec = spec.replace(terrain=terrain_of_text(row[LAYOUT_LABEL]))
+    terrain = terrain_of_text(row[LAYOUT_LABEL])
+    spec = spec.replace(terrain=terrain, terrain_cadence=terrain_cadence)
     line = spec.command_line()
     return line if terrain_file is None else line.replace("terrain.toml", terrain_file, 1)
 
