@@ -14,8 +14,6 @@ legs' top speed (``max_step_forward / T``); a walk with the terrain cadence step
 ``v T``), each step ``k`` times longer.
 """
 
-import numpy as np
-
 from mpcwalk._checks import checked_number
 from mpcwalk.footsteps.footstep import FootstepPlan
 
@@ -30,12 +28,11 @@ TERRAIN_CADENCE_SHARE = 0.75
 def largest_advance(plan: FootstepPlan) -> float:
     """The largest advance [m] of a landing ahead of its support foot, along the support
     foot's heading, over the plan's steps (0 without steps)."""
-    largest = 0.0
-    for step, stance in zip(plan.steps, plan.stances()):
-        support = stance[step.side.other]
-        heading = np.array([np.cos(support.yaw), np.sin(support.yaw)])
-        largest = max(largest, float((step.xy - support.xy) @ heading))
-    return largest
+    advances = [
+        float(stance[step.side.other].to_local(step.xy)[0])
+        for step, stance in zip(plan.steps, plan.stances())
+    ]
+    return max([0.0, *advances])
 
 
 def cadence_stretch(

@@ -146,6 +146,35 @@ class WalkSetup:
     pushes: list[ExternalForce]
 
 
+def _at_terrain_cadence(
+    footsteps: FootstepPlan, robot: Robot, plan: Any, nb_steps: int | None
+) -> tuple[FootstepPlan, dict[str, Any]]:
+    """The footsteps with every step lengthened by the terrain cadence
+    (:func:`~mpcwalk.footsteps.cadence.cadence_stretch`), and the changes of the resolved
+    specification that walk them again (the divided command, the number of steps); the
+    footsteps as they are and no change when no step needs it.
+
+    Raises:
+        ConfigurationError: The lengthened steps would last beyond the longest step.
+    """
+    timing = footsteps.timing
+    stretch = cadence_stretch(footsteps, robot.leg_limits.max_step_forward)
+    if stretch * timing.step_duration > MAX_STEP_DURATION:
+        raise ConfigurationError(
+            f"The terrain cadence would lengthen the steps of {timing.step_duration:g} s "
+            f"by {stretch:.2f} to {stretch * timing.step_duration:.3g} s, beyond "
+            f"{MAX_STEP_DURATION:g} s; walk without --terrain-cadence, or with shorter "
+            "steps (--step-duration)."
+        )
+    if stretch <= 1.0 + 1e-9:
+        return footsteps, {}
+    timing = replace(timing, step_duration=stretch * timing.step_duration)
+    changes: dict[str, Any] = {"nb_steps": nb_steps, "duration": None}
+    if plan.command is not None:
+        changes["command"] = tuple(v / stretch for v in plan.command)
+    return replace(footsteps, timing=timing), changes
+
+
 def set_up_walk(spec: WalkSpec, robot: Robot | None = None) -> WalkSetup:
     """The walk of ``spec`` on ``robot`` (None: ``spec.robot`` loaded, with its meshes when
     the walk is filmed).
@@ -183,21 +212,8 @@ def set_up_walk(spec: WalkSpec, robot: Robot | None = None) -> WalkSetup:
     )
     cadence: dict[str, Any] = {}
     if plan.terrain_cadence and terrain is not None:
-        stretch = cadence_stretch(footsteps, robot.leg_limits.max_step_forward)
-        if stretch * timing.step_duration > MAX_STEP_DURATION:
-            raise ConfigurationError(
-                f"The terrain cadence would lengthen the steps of {timing.step_duration:g} s "
-                f"by {stretch:.2f} to {stretch * timing.step_duration:.3g} s, beyond "
-                f"{MAX_STEP_DURATION:g} s; walk without --terrain-cadence, or with shorter "
-                "steps (--step-duration)."
-            )
-        if stretch > 1.0 + 1e-9:  # the same footsteps, each step longer
-            timing = replace(timing, step_duration=stretch * timing.step_duration)
-            footsteps = replace(footsteps, timing=timing)
-            # the resolved walk as it steps: the stretched command, its number of steps
-            cadence = {"nb_steps": nb_steps, "duration": None}
-            if plan.command is not None:
-                cadence["command"] = tuple(v / stretch for v in plan.command)
+        footsteps, cadence = _at_terrain_cadence(footsteps, robot, plan, nb_steps)
+        timing = footsteps.timing
     schedule = ContactSchedule(footsteps, FootGeometry(*robot.sole_size))
     generator_class(controller.generator).check_timing(schedule, LIPM(com_height=robot.com_height))
     pushes = check_pushes(spec.disturbances.external_forces(), robot, schedule.duration)

@@ -1,6 +1,6 @@
 """The robustness matrix's cells and their success rates: the goals' controllers (on every
-robot of the table), which rows make a cell (a factor, the nominal walks, every factor on the floor,
-every terrain factor, the combinations), rates with their Wilson intervals.
+robot of the table), which rows make a cell (a factor, the nominal walks, every factor on
+the floor, every terrain factor, the combinations), rates with their Wilson intervals.
 Shared by the report (:mod:`mpcwalk.experiments.robustness.report`) and its figures
 (:mod:`mpcwalk.experiments.robustness.plots`)."""
 
