@@ -32,6 +32,25 @@ def test_atomic_write_leaves_the_old_file_when_the_writer_fails(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["metrics.json"]  # no temporary file
 
 
+@pytest.mark.parametrize(
+    "umask, mode",
+    [(0o022, 0o644), (0o077, 0o600), (0o002, 0o664)],
+    ids=["umask-022", "umask-077", "umask-002"],
+)
+def test_atomic_writes_give_the_files_the_umask_s_permissions(tmp_path, umask, mode):
+    """A walk's files are created as ``open`` creates them (a results folder others read),
+    not with the owner-only permissions of a private temporary file."""
+    previous = os.umask(umask)
+    try:
+        write_json(tmp_path / "metrics.json", {"run": 1})
+        write_atomic(tmp_path / "walk_log.npz", lambda tmp: tmp.write_bytes(b"log"))
+    finally:
+        os.umask(previous)
+    for path in tmp_path.iterdir():
+        assert path.stat().st_mode & 0o777 == mode, (path.name, oct(path.stat().st_mode))
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["metrics.json", "walk_log.npz"]
+
+
 def test_metrics_are_written_last(tmp_path, monkeypatch, capsys):
     order = []
     real = outputs.write_atomic

@@ -5,6 +5,7 @@ under the output folder.
 
 import json
 import os
+import secrets
 import sys
 import tempfile
 import traceback
@@ -90,13 +91,11 @@ def check_video_path(video: Any) -> Path:
 
 def write_atomic(path: Path, write: Callable[[Path], Any]) -> Path:
     """Call ``write(tmp)`` on a temporary file beside ``path``, then rename it to ``path``:
-    a reader never sees a half-written file. ``tmp`` keeps ``path``'s suffix."""
+    a reader never sees a half-written file. ``tmp`` keeps ``path``'s suffix, and is created
+    as ``open`` creates a file (its permissions the process's umask's, not the owner-only
+    ones of a private temporary file)."""
     path = Path(path)
-    handle, name = tempfile.mkstemp(
-        dir=path.parent, prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}"
-    )
-    os.close(handle)
-    tmp = Path(name)
+    tmp = _new_file(path.parent, f".{path.stem}.", f".tmp{path.suffix}")
     try:
         write(tmp)
         os.replace(tmp, path)
@@ -104,6 +103,18 @@ def write_atomic(path: Path, write: Callable[[Path], Any]) -> Path:
         if tmp.exists():
             tmp.unlink()
     return path
+
+
+def _new_file(folder: Path, prefix: str, suffix: str) -> Path:
+    """A new empty file ``folder/prefix<random>suffix``, created exclusively (never one that
+    exists) with the permissions the umask leaves of ``rw-rw-rw-``."""
+    while True:
+        tmp = folder / f"{prefix}{secrets.token_hex(6)}{suffix}"
+        try:
+            os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+        except FileExistsError:
+            continue
+        return tmp
 
 
 def write_json(path: Path, data: Any) -> Path:
