@@ -22,7 +22,12 @@ On treads and stones, one or two feet per top as the geometry allows: from a tre
 landing goes onto the next one when it is within reach (step-over, one foot per tread:
 the swing foot then climbs two rises, so high stairs are climbed two feet per tread), else
 the second foot joins the first on its tread; at the end of a top the landing moves
-onto the next one. The closing step joins the support foot on its top. The count of steps
+onto the next one. The closing step joins the support foot on its top.
+A landing that crosses onto another top with a stride beyond the flat legs'
+``limits.max_step_forward`` crosses as short as it can (:meth:`TerrainStepPlacer._shortest_crossing`):
+the foot first lands at the front of its own top when it still advances there by a quarter
+sole within the flat reach (two feet on that top), and the crossing lands at the nearest
+place of the next top that keeps the margin it prefers. The count of steps
 is the caller's: the robot walks as far as those steps go. The footstep's height is the
 sole centre's on its top, its roll and pitch the top's tilt under its heading
 (:meth:`~mpcwalk.terrain.Terrain.sole_support`).
@@ -45,6 +50,9 @@ _EPS = 1e-9
 DESCENT_MIN = 0.005
 
 
+#: Advance [share of the sole length] a foot must still make on its own top, within the flat
+#: reach, to land there before a crossing beyond the flat reach.
+CROSSING_ADVANCE = 0.25
 #: Margin to a top's edges [share of the sole length] a landing prefers: on a tread or a stone
 #: the landing moves towards the middle until it has it (a landing error of a few centimetres
 #: must not put a heel on a nose).
@@ -150,10 +158,7 @@ class TerrainStepPlacer:
             penalty = ROUGH_PREFERENCE * self.reach.sole_length
         if place.top[0] == "top":  # treads, stones, landings: keep the sole off their edges
             wanted = PREFERRED_MARGIN * self.reach.sole_length
-            if place.height < lift_height - DESCENT_MIN:
-                margin = self._heel_room_margin(place, yaw)  # a step down
-            else:
-                margin = self.tops.support(place.center, yaw).margin
+            margin = self._landing_margin(place, yaw, lift_height)  # heel room down a step
             penalty += MARGIN_WEIGHT * max(0.0, wanted - margin)
         return abs(place.offset) + penalty, 0 if place.offset >= 0.0 else 1
 
@@ -210,10 +215,45 @@ class TerrainStepPlacer:
         if progress > _EPS and best.top == own:
             stalled = best.stride <= _EPS
             if on_next and (self.tops.is_narrow(own) or stalled):
-                return min(on_next, key=preference)
-            if stalled and not on_next and left == own:
+                best = min(on_next, key=preference)
+            elif stalled and not on_next and left == own:
                 raise self._infeasible(k, step, target, support, own)
-        return best
+        if closing or best.top == own or best.stride <= self.limits.max_step_forward + _EPS:
+            return best
+        return self._shortest_crossing(best, on_own, pool, step.yaw, lift)
+
+    def _shortest_crossing(
+        self, best: Place, on_own: list[Place], pool: list[Place], yaw: float, lift: float
+    ) -> Place:
+        """A crossing onto another top beyond the flat reach made as short as the tops
+        allow: a landing ahead of the support foot on its own top, by at least
+        :data:`CROSSING_ADVANCE` of a sole and within the flat reach, with the tread margin
+        (the crossing is then made from the front of that top); else the nearest place of
+        ``best``'s top that keeps the margin :meth:`_preference` asks (the tread margin when
+        none does), when it is nearer than ``best``."""
+        flat, sole = self.limits.max_step_forward, self.reach.sole_length
+        margin = self.reach.tread_margin - _EPS
+        ahead = [
+            p
+            for p in on_own
+            if CROSSING_ADVANCE * sole - _EPS <= p.stride <= flat + _EPS
+            and self.tops.support(p.center, yaw).margin >= margin
+        ]
+        if ahead:
+            return max(ahead, key=lambda p: p.stride)
+        wanted = PREFERRED_MARGIN * sole - _EPS
+        same = [p for p in pool if p.top == best.top]
+        margins = {id(p): self._landing_margin(p, yaw, lift) for p in same}
+        kept = [p for p in same if margins[id(p)] >= wanted]
+        kept = kept or [p for p in same if margins[id(p)] >= margin]
+        nearest = min(kept, key=lambda p: p.stride, default=best)
+        return nearest if nearest.stride < best.stride else best
+
+    def _landing_margin(self, place: Place, yaw: float, lift: float) -> float:
+        """The margin [m] :meth:`_preference` weighs: the heel room's on a step down."""
+        if place.height < lift - DESCENT_MIN:
+            return self._heel_room_margin(place, yaw)
+        return self.tops.support(place.center, yaw).margin
 
     def _infeasible(
         self, k: int, step: Footstep, target: np.ndarray, support: Footstep, own
@@ -255,6 +295,7 @@ def place_on_terrain(
 
 
 __all__ = [
+    "CROSSING_ADVANCE",
     "DESCENT_HEEL_ROOM",
     "DESCENT_MIN",
     "ROUGH_PREFERENCE",
