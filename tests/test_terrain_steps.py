@@ -161,6 +161,36 @@ def test_stepping_stones_are_the_only_ground_over_the_pit():
     assert used == set(range(stones.count))
 
 
+#: The robustness matrix's stones for the large humanoid (seed 137): 0.39 m stones, 0.118 m
+#: gaps, a 0.26 m sole whose legs step 0.3 m on the flat and reach 0.725 m on a terrain.
+ATLAS_STONES = Terrain([SteppingStones(0.5, count=4, length=0.39, gap=0.1182, width=0.483)])
+ATLAS_REACH = TerrainReach.for_leg(0.26, 0.13, 0.906)
+ATLAS_LIMITS = dataclasses.replace(LegLimits(), max_step_forward=0.3)
+
+
+def test_a_crossing_beyond_the_flat_reach_is_made_from_the_front_of_the_top():
+    """Every crossing of a gap goes from the front of a stone to the near end of the next:
+    no stride longer than the gap, a sole, the tread margin left at the front of the stone
+    and the margin a landing prefers on the next (0.47 m; 0.665 m when the feet kept a foot
+    per stone from the first stone's back edge), the last foot before each gap at the
+    front of its stone."""
+    planner = VelocityPlanner(ATLAS_LIMITS, StepTiming(1.0, 0.2))
+    plan = planner.plan((0.1, 0.0, 0.0), 32, terrain=ATLAS_STONES, reach=ATLAS_REACH)
+    assert_on_tops_within_reach(plan, ATLAS_STONES, ATLAS_REACH)
+    stones, sole = ATLAS_STONES.features[0], ATLAS_REACH.sole_length
+    preferred = terrain_steps.PREFERRED_MARGIN * sole
+    crossing = stones.gap + sole + ATLAS_REACH.tread_margin + preferred
+    strides = [float(step.xy[0] - plan.support_foot(k).xy[0]) for k, step in enumerate(plan.steps)]
+    assert max(strides) <= crossing + 2.0 * terrain_tops.SEARCH_STEP
+    long = [k for k, stride in enumerate(strides) if stride > ATLAS_LIMITS.max_step_forward]
+    assert len(long) == stones.count  # one per gap, the last one onto the floor beyond
+    for k in long:  # from the front of a stone: its sole's toe within a margin of the edge
+        support = plan.support_foot(k).xy[0]
+        i = math.floor((support - stones.start) / stones.pitch)
+        front = stones.start + i * stones.pitch + stones.length
+        assert front - (support + 0.5 * sole) <= ATLAS_REACH.tread_margin + 0.01
+
+
 def test_on_a_rough_patch_the_sole_rests_on_its_highest_block(monkeypatch):
     # blocks longer than the sole (0.15 m against 0.10 m): a sole fits wholly on one
     terrain = Terrain([RoughPatch(0.3, length=1.0, width=0.6, block=0.15, height=0.02, seed=1)])

@@ -22,13 +22,13 @@ On treads and stones, one or two feet per top as the geometry allows: from a tre
 landing goes onto the next one when it is within reach (step-over, one foot per tread:
 the swing foot then climbs two rises, so high stairs are climbed two feet per tread), else
 the second foot joins the first on its tread; at the end of a top the landing moves
-onto the next one. The closing step joins the support foot on its top.
-A landing that crosses onto another top with a stride beyond the flat legs'
-``limits.max_step_forward`` crosses as short as it can (:meth:`TerrainStepPlacer._shortest_crossing`):
-the foot first lands at the front of its own top when it still advances there by a quarter
-sole within the flat reach (two feet on that top), and the crossing lands at the nearest
-place of the next top that keeps the margin it prefers. The count of steps
-is the caller's: the robot walks as far as those steps go. The footstep's height is the
+onto the next one. The closing step joins the support foot on its top. A landing that
+crosses onto another top with a stride beyond the flat legs' ``limits.max_step_forward``
+crosses as short as it can (:meth:`TerrainStepPlacer._shortest_crossing`): the foot first
+lands at the front of its own top when it still advances there by a quarter sole within the
+flat reach (two feet on that top), and the crossing lands at the nearest place of the next
+top that keeps the margin it prefers. The count of steps is the caller's: the robot walks
+as far as those steps go. The footstep's height is the
 sole centre's on its top, its roll and pitch the top's tilt under its heading
 (:meth:`~mpcwalk.terrain.Terrain.sole_support`).
 """
