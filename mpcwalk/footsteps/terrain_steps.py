@@ -232,7 +232,7 @@ class TerrainStepPlacer:
         ``best``'s top that keeps the margin :meth:`_preference` asks (the tread margin when
         none does), when it is nearer than ``best``."""
         flat, sole = self.limits.max_step_forward, self.reach.sole_length
-        margin = self.reach.tread_margin - _EPS
+        margin = self.tops.margin - _EPS
         ahead = [
             p
             for p in on_own
