@@ -23,14 +23,14 @@ landing goes onto the next one when it is within reach (step-over, one foot per 
 the swing foot then climbs two rises, so high stairs are climbed two feet per tread), else
 the second foot joins the first on its tread; at the end of a top the landing moves
 onto the next one. The closing step joins the support foot on its top. A landing that
-crosses onto another top with a stride beyond the flat legs' ``limits.max_step_forward``
-crosses as short as it can (:meth:`TerrainStepPlacer._shortest_crossing`): the foot first
-lands at the front of its own top when it still advances there by a quarter sole within the
-flat reach (two feet on that top), and the crossing lands at the nearest place of the next
-top that keeps the margin it prefers. The count of steps is the caller's: the robot walks
-as far as those steps go. The footstep's height is the
-sole centre's on its top, its roll and pitch the top's tilt under its heading
-(:meth:`~mpcwalk.terrain.Terrain.sole_support`).
+crosses onto another top, level or up, with a stride beyond the flat legs'
+``limits.max_step_forward`` crosses as short as it can
+(:meth:`TerrainStepPlacer._shortest_crossing`): the foot first lands at the front of its own
+top when it still advances there by a quarter sole within the flat reach (two feet on that
+top), and the crossing lands at the nearest place of the next top that keeps the margin it
+prefers. The count of steps is the caller's: the robot walks as far as those steps go. The
+footstep's height is the sole centre's on its top, its roll and pitch the top's tilt under
+its heading (:meth:`~mpcwalk.terrain.Terrain.sole_support`).
 """
 
 from dataclasses import replace
@@ -225,12 +225,15 @@ class TerrainStepPlacer:
     def _shortest_crossing(
         self, best: Place, on_own: list[Place], pool: list[Place], yaw: float, lift: float
     ) -> Place:
-        """A crossing onto another top beyond the flat reach made as short as the tops
-        allow: a landing ahead of the support foot on its own top, by at least
+        """A crossing onto another top beyond the flat reach, level or up, made as short
+        as the tops allow: a landing ahead of the support foot on its own top, by at least
         :data:`CROSSING_ADVANCE` of a sole and within the flat reach, with the tread margin
         (the crossing is then made from the front of that top); else the nearest place of
         ``best``'s top that keeps the margin :meth:`_preference` asks (the tread margin when
-        none does), when it is nearer than ``best``."""
+        none does), when it is nearer than ``best``. A step down keeps ``best``: it lands
+        towards the front of the lower top (:data:`DESCENT_HEEL_ROOM`)."""
+        if best.height < lift - DESCENT_MIN:  # a step down keeps the heel room it prefers
+            return best
         flat, sole = self.limits.max_step_forward, self.reach.sole_length
         margin = self.tops.margin - _EPS
         ahead = [
