@@ -26,7 +26,7 @@ onto the next one. The closing step joins the support foot on its top. A landing
 crosses onto another top, level or up, with a stride beyond the flat legs'
 ``limits.max_step_forward`` crosses as short as it can
 (:meth:`TerrainStepPlacer._shortest_crossing`): the foot first lands at the front of its own
-top when it still advances there by a quarter sole within the flat reach (two feet on that
+top when it still advances there by half a sole within the flat reach (two feet on that
 top), and the crossing lands at the nearest place of the next top that keeps the margin it
 prefers. The count of steps is the caller's: the robot walks as far as those steps go. The
 footstep's height is the sole centre's on its top, its roll and pitch the top's tilt under
@@ -51,8 +51,9 @@ DESCENT_MIN = 0.005
 
 
 #: Advance [share of the sole length] a foot must still make on its own top, within the flat
-#: reach, to land there before a crossing beyond the flat reach.
-CROSSING_ADVANCE = 0.25
+#: reach, to land there before a crossing beyond the flat reach (a step that shortens the
+#: crossing by less is not worth its time).
+CROSSING_ADVANCE = 0.5
 #: Margin to a top's edges [share of the sole length] a landing prefers: on a tread or a stone
 #: the landing moves towards the middle until it has it (a landing error of a few centimetres
 #: must not put a heel on a nose).
@@ -229,8 +230,8 @@ class TerrainStepPlacer:
         as the tops allow: a landing ahead of the support foot on its own top, by at least
         :data:`CROSSING_ADVANCE` of a sole and within the flat reach, with the tread margin
         (the crossing is then made from the front of that top); else the nearest place of
-        ``best``'s top that keeps the margin :meth:`_preference` asks (the tread margin when
-        none does), when it is nearer than ``best``. A step down keeps ``best``: it lands
+        ``best``'s top that keeps the margin :meth:`_preference` asks, or ``best``'s when it
+        has less, when it is nearer than ``best``. A step down keeps ``best``: it lands
         towards the front of the lower top (:data:`DESCENT_HEEL_ROOM`)."""
         if best.height < lift - DESCENT_MIN:  # a step down keeps the heel room it prefers
             return best
@@ -244,11 +245,11 @@ class TerrainStepPlacer:
         ]
         if ahead:
             return max(ahead, key=lambda p: p.stride)
-        wanted = PREFERRED_MARGIN * sole - _EPS
+        # never less margin than the preferred landing's (a top of one and a half soles
+        # keeps its landing centred)
+        wanted = min(PREFERRED_MARGIN * sole, self._landing_margin(best, yaw, lift)) - _EPS
         same = [p for p in pool if p.top == best.top]
-        margins = {id(p): self._landing_margin(p, yaw, lift) for p in same}
-        kept = [p for p in same if margins[id(p)] >= wanted]
-        kept = kept or [p for p in same if margins[id(p)] >= margin]
+        kept = [p for p in same if self._landing_margin(p, yaw, lift) >= wanted]
         nearest = min(kept, key=lambda p: p.stride, default=best)
         return nearest if nearest.stride < best.stride else best
 
