@@ -37,7 +37,7 @@ def test_atomic_write_leaves_the_old_file_when_the_writer_fails(tmp_path):
     [(0o022, 0o644), (0o077, 0o600), (0o002, 0o664)],
     ids=["umask-022", "umask-077", "umask-002"],
 )
-def test_atomic_writes_give_the_files_the_umask_s_permissions(tmp_path, umask, mode):
+def test_files_written_in_place_get_the_umask_s_permissions(tmp_path, umask, mode):
     """A walk's files are created as ``open`` creates them (a results folder others read),
     not with the owner-only permissions of a private temporary file."""
     previous = os.umask(umask)
