@@ -159,7 +159,10 @@ class TerrainStepPlacer:
             penalty = ROUGH_PREFERENCE * self.reach.sole_length
         if place.top[0] == "top":  # treads, stones, landings: keep the sole off their edges
             wanted = PREFERRED_MARGIN * self.reach.sole_length
-            margin = self._landing_margin(place, yaw, lift_height)  # heel room down a step
+            if place.height < lift_height - DESCENT_MIN:
+                margin = self._heel_room_margin(place, yaw)  # a step down
+            else:
+                margin = self.tops.support(place.center, yaw).margin
             penalty += MARGIN_WEIGHT * max(0.0, wanted - margin)
         return abs(place.offset) + penalty, 0 if place.offset >= 0.0 else 1
 
@@ -230,34 +233,30 @@ class TerrainStepPlacer:
         as the tops allow: a landing ahead of the support foot on its own top, by at least
         :data:`CROSSING_ADVANCE` of a sole and within the flat reach, with the tread margin
         (the crossing is then made from the front of that top); else the nearest place of
-        ``best``'s top that keeps the margin :meth:`_preference` asks, or ``best``'s when it
-        has less, when it is nearer than ``best``. A step down keeps ``best``: it lands
-        towards the front of the lower top (:data:`DESCENT_HEEL_ROOM`)."""
+        ``best``'s top that keeps the margin :data:`PREFERRED_MARGIN` asks, or ``best``'s
+        when it has less, when it is nearer than ``best``. A step down keeps ``best``: it
+        lands towards the front of the lower top (:data:`DESCENT_HEEL_ROOM`)."""
         if best.height < lift - DESCENT_MIN:  # a step down keeps the heel room it prefers
             return best
         flat, sole = self.limits.max_step_forward, self.reach.sole_length
-        margin = self.tops.margin - _EPS
+
+        def margin(p: Place) -> float:
+            return self.tops.support(p.center, yaw).margin
+
         ahead = [
             p
             for p in on_own
             if CROSSING_ADVANCE * sole - _EPS <= p.stride <= flat + _EPS
-            and self.tops.support(p.center, yaw).margin >= margin
+            and margin(p) >= self.tops.margin - _EPS
         ]
         if ahead:
             return max(ahead, key=lambda p: p.stride)
         # never less margin than the preferred landing's (a top of one and a half soles
         # keeps its landing centred)
-        wanted = min(PREFERRED_MARGIN * sole, self._landing_margin(best, yaw, lift)) - _EPS
-        same = [p for p in pool if p.top == best.top]
-        kept = [p for p in same if self._landing_margin(p, yaw, lift) >= wanted]
+        wanted = min(PREFERRED_MARGIN * sole, margin(best)) - _EPS
+        kept = [p for p in pool if p.top == best.top and margin(p) >= wanted]
         nearest = min(kept, key=lambda p: p.stride, default=best)
         return nearest if nearest.stride < best.stride else best
-
-    def _landing_margin(self, place: Place, yaw: float, lift: float) -> float:
-        """The margin [m] :meth:`_preference` weighs: the heel room's on a step down."""
-        if place.height < lift - DESCENT_MIN:
-            return self._heel_room_margin(place, yaw)
-        return self.tops.support(place.center, yaw).margin
 
     def _infeasible(
         self, k: int, step: Footstep, target: np.ndarray, support: Footstep, own
